@@ -1,0 +1,30 @@
+# Warnings and sanitizers for project code only (third-party headers are SYSTEM includes).
+add_library(dammloam_options INTERFACE)
+target_compile_options(dammloam_options INTERFACE
+  $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wpedantic -Wno-psabi>)
+
+if(DAMMLOAM_SANITIZE AND DAMMLOAM_TSAN)
+  message(FATAL_ERROR "DAMMLOAM_SANITIZE and DAMMLOAM_TSAN are mutually exclusive")
+endif()
+if(DAMMLOAM_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(DAMMLOAM_TSAN)
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
+endif()
+
+# dammloam_add_test(NAME name SOURCES a.cpp... LIBS lib... [LABELS l...])
+# One GoogleTest executable per suite; tests are discovered so ctest lists each case.
+function(dammloam_add_test)
+  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main dammloam_options)
+  target_compile_definitions(${T_NAME} PRIVATE
+    DAMMLOAM_SHARED_DATA_DIR="${CMAKE_SOURCE_DIR}/../shared/data"
+    DAMMLOAM_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
+    DAMMLOAM_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+  set_target_properties(${T_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
+endfunction()

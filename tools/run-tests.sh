@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds and runs every test: the release build, then the core and tool
+# suites again under ASan+UBSan, then the threaded pipeline suites under TSan.
+# This is the README's test command and what .ci/run calls.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=${JOBS:-$(nproc)}
+
+bash deploy/install-deps.sh
+
+echo "== release build + all tests"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$JOBS"
+ctest --test-dir build --output-on-failure -j"$JOBS"
+
+if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
+  echo "== ASan+UBSan build + tests"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_SANITIZE=ON >/dev/null
+  cmake --build build-asan -j"$JOBS"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan --output-on-failure -j"$JOBS" -L sanitize
+
+  echo "== TSan build + pipeline tests"
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_TSAN=ON >/dev/null
+  cmake --build build-tsan -j"$JOBS"
+  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+    ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
+fi
+echo "== all tests passed"
