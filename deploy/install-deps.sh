@@ -13,6 +13,7 @@ PACKAGES=(
   libpcap-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   procps
+  libssl-dev
 )
 
 missing=()

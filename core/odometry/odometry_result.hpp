@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "core/geometry/point_class.hpp"
@@ -18,6 +19,36 @@ struct DegeneracyReport {
   std::array<bool, 3> degenerate{false, false, false};         // per eigen-direction
 };
 
+// What happened to a scan. Only kOk, kFirstScan and kTimeGap registered it and updated the
+// map; the others leave the odometry state untouched and report the last (or predicted) pose.
+enum class OdometryStatus : std::uint8_t {
+  kOk = 0,
+  kFirstScan,              // initialised the map; pose is identity
+  kTimeGap,                // registered, but the gap exceeded max_time_gap: velocity was reset
+  kEmptyScan,              // no valid point
+  kTooFewPoints,           // fewer valid points than OdometryConfig::min_points
+  kNonIncreasingStamp,     // stamp <= previous stamp (duplicate or out of order)
+  kTooFewCorrespondences,  // registration found too few pairs; pose is the prediction
+};
+
+constexpr bool Registered(OdometryStatus s) {
+  return s == OdometryStatus::kOk || s == OdometryStatus::kFirstScan ||
+         s == OdometryStatus::kTimeGap;
+}
+
+constexpr std::string_view Name(OdometryStatus s) {
+  switch (s) {
+    case OdometryStatus::kOk: return "ok";
+    case OdometryStatus::kFirstScan: return "first_scan";
+    case OdometryStatus::kTimeGap: return "time_gap";
+    case OdometryStatus::kEmptyScan: return "empty_scan";
+    case OdometryStatus::kTooFewPoints: return "too_few_points";
+    case OdometryStatus::kNonIncreasingStamp: return "non_increasing_stamp";
+    case OdometryStatus::kTooFewCorrespondences: return "too_few_correspondences";
+  }
+  return "unknown";
+}
+
 struct StageTimings {
   double projection_ms = 0, normals_ms = 0, classification_ms = 0, deskew_ms = 0,
          downsample_ms = 0, registration_ms = 0, map_update_ms = 0, total_ms = 0;
@@ -27,6 +58,7 @@ struct StageTimings {
 struct OdometryResult {
   double stamp = 0.0;                                         // scan start time, seconds
   std::uint64_t scan_index = 0;
+  OdometryStatus status = OdometryStatus::kOk;
   Eigen::Isometry3d T_world_sensor = Eigen::Isometry3d::Identity();  // at scan start
   Matrix6d covariance = Matrix6d::Identity();                 // tangent order [t; r]
   Vector6d velocity = Vector6d::Zero();                       // [v; w] in sensor frame, per s

@@ -1,0 +1,183 @@
+#include "core/backend/loop_closing_backend.hpp"
+
+#include <algorithm>
+
+#include "core/backend/global_map.hpp"
+#include "core/backend/point_to_plane_icp.hpp"
+
+namespace dammloam::backend {
+
+LoopClosingBackend::LoopClosingBackend(const BackendConfig& config)
+    : config_(config),
+      verifier_(config.verifier),
+      selector_(config.keyframes),
+      database_(config.database),
+      graph_(config.pose_graph) {}
+
+void LoopClosingBackend::AddScan(const OdometryResult& result) {
+  std::lock_guard lock(shared_mutex_);
+  if (!scans_.empty()) {
+    if (result.scan_index <= scans_.back().scan_index) return;  // replayed or out of order
+    path_length_ += (result.T_world_sensor.translation() -
+                     scans_.back().T_world_sensor_odom.translation()).norm();
+    covariance_since_keyframe_ += result.covariance;
+  }
+  if (selector_.Consider(result.T_world_sensor)) {
+    PendingKeyframe pending;
+    Keyframe& kf = pending.keyframe;
+    kf.id = next_keyframe_id_++;
+    kf.scan_index = result.scan_index;
+    kf.stamp = result.stamp;
+    kf.T_world_sensor_odom = result.T_world_sensor;
+    kf.T_world_sensor = result.T_world_sensor;
+    kf.edge_covariance = covariance_since_keyframe_;
+    kf.points = result.deskewed_points;
+    if (result.labels.size() == result.deskewed_points.size()) kf.labels = result.labels;
+    pending.path_length = path_length_;
+    inbox_.push_back(std::move(pending));
+    covariance_since_keyframe_.setZero();
+  }
+  scans_.push_back({result.scan_index, result.stamp, result.T_world_sensor,
+                    next_keyframe_id_ == 0 ? 0 : next_keyframe_id_ - 1});
+}
+
+std::vector<LoopEvent> LoopClosingBackend::Process() {
+  std::lock_guard process_lock(process_mutex_);
+  std::vector<PendingKeyframe> pending;
+  {
+    std::lock_guard lock(shared_mutex_);
+    pending.swap(inbox_);
+  }
+  std::vector<LoopEvent> events;
+  bool loop_added = false;
+  for (PendingKeyframe& p : pending) {
+    const std::uint32_t id = p.keyframe.id;
+    IntegrateKeyframe(std::move(p));
+    for (LoopEvent& event : DetectLoops(id)) {
+      loop_added = loop_added || event.accepted;
+      events.push_back(std::move(event));
+    }
+  }
+  if (loop_added) {
+    graph_.Optimize();
+    for (Keyframe& kf : keyframes_) kf.T_world_sensor = graph_.Pose(kf.id);
+  }
+  if (!pending.empty()) PublishCorrections();
+  return events;
+}
+
+void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
+  Keyframe& kf = pending.keyframe;
+  const auto kept = VoxelDownsampleIndices(kf.points, config_.keyframe_voxel_size);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<PointClass> labels;
+  for (std::size_t i : kept) {
+    points.push_back(kf.points[i]);
+    if (!kf.labels.empty()) labels.push_back(kf.labels[i]);
+  }
+  kf.points = std::move(points);
+  kf.labels = std::move(labels);
+  kf.descriptor = MakeScanContext(kf.points, config_.scan_context);
+
+  // New nodes start from the corrected previous keyframe plus odometry's relative motion, so
+  // the part of the trajectory after a loop closure follows the correction.
+  if (keyframes_.empty()) {
+    graph_.AddNode(kf.T_world_sensor_odom);
+  } else {
+    const Keyframe& previous = keyframes_.back();
+    const Eigen::Isometry3d T_prev_kf =
+        previous.T_world_sensor_odom.inverse() * kf.T_world_sensor_odom;
+    kf.T_world_sensor = previous.T_world_sensor * T_prev_kf;
+    graph_.AddNode(kf.T_world_sensor);
+    graph_.AddOdometryEdge(previous.id, kf.id, T_prev_kf, kf.edge_covariance);
+  }
+  database_.Add(kf.descriptor);
+  keyframe_path_.push_back(pending.path_length);
+  keyframes_.push_back(std::move(kf));
+}
+
+std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
+  std::vector<LoopEvent> events;
+  const Keyframe& query = keyframes_[query_id];
+  int verified = 0;
+  for (const ScanContextCandidate& candidate : database_.Query(query.descriptor)) {
+    if (verified++ >= config_.max_verifications_per_keyframe) break;
+    const Keyframe& old = keyframes_[candidate.id];
+    const double path = keyframe_path_[query_id] - keyframe_path_[candidate.id];
+    LoopEvent event = verifier_.Verify(query, old, candidate.match, path);
+    if (event.accepted) {
+      Matrix6d covariance = Matrix6d::Zero();
+      covariance.diagonal().head<3>().setConstant(config_.loop_translation_sigma *
+                                                  config_.loop_translation_sigma);
+      covariance.diagonal().tail<3>().setConstant(config_.loop_rotation_sigma *
+                                                  config_.loop_rotation_sigma);
+      graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
+      loops_.push_back({old.id, query.id, event.T_candidate_query});
+      events.push_back(std::move(event));
+      break;  // one verified loop per keyframe is enough evidence
+    }
+    events.push_back(std::move(event));
+  }
+  return events;
+}
+
+void LoopClosingBackend::PublishCorrections() {
+  std::vector<Eigen::Isometry3d> corrections;
+  corrections.reserve(keyframes_.size());
+  for (const Keyframe& kf : keyframes_) {
+    corrections.push_back(kf.T_world_sensor * kf.T_world_sensor_odom.inverse());
+  }
+  std::lock_guard lock(shared_mutex_);
+  corrections_ = std::move(corrections);
+}
+
+std::optional<Eigen::Isometry3d> LoopClosingBackend::CorrectedPoseOf(
+    std::uint64_t scan_index) const {
+  std::lock_guard lock(shared_mutex_);
+  const auto it = std::lower_bound(
+      scans_.begin(), scans_.end(), scan_index,
+      [](const ScanRecord& r, std::uint64_t index) { return r.scan_index < index; });
+  if (it == scans_.end() || it->scan_index != scan_index) return std::nullopt;
+  if (corrections_.empty()) return it->T_world_sensor_odom;
+  // Keyframes still in the inbox use the newest correction available.
+  const std::size_t k = std::min<std::size_t>(it->keyframe, corrections_.size() - 1);
+  return Normalized(corrections_[k] * it->T_world_sensor_odom);
+}
+
+std::vector<CorrectedPose> LoopClosingBackend::CorrectedTrajectory() const {
+  std::lock_guard lock(shared_mutex_);
+  std::vector<CorrectedPose> trajectory;
+  trajectory.reserve(scans_.size());
+  for (const ScanRecord& r : scans_) {
+    Eigen::Isometry3d T = r.T_world_sensor_odom;
+    if (!corrections_.empty()) {
+      T = Normalized(corrections_[std::min<std::size_t>(r.keyframe, corrections_.size() - 1)] * T);
+    }
+    trajectory.push_back({r.scan_index, r.stamp, T});
+  }
+  return trajectory;
+}
+
+std::size_t LoopClosingBackend::NumKeyframes() const {
+  std::lock_guard lock(process_mutex_);
+  return keyframes_.size();
+}
+
+std::size_t LoopClosingBackend::NumAcceptedLoops() const {
+  std::lock_guard lock(process_mutex_);
+  return loops_.size();
+}
+
+MapData LoopClosingBackend::ExportMap() const {
+  std::lock_guard lock(process_mutex_);
+  MapData map;
+  map.scan_context = config_.scan_context;
+  map.keyframes = keyframes_;
+  map.loops = loops_;
+  GlobalMap global = AssembleGlobalMap(keyframes_, config_.global_map_voxel_size);
+  map.global_points = std::move(global.points);
+  map.global_labels = std::move(global.labels);
+  return map;
+}
+
+}  // namespace dammloam::backend

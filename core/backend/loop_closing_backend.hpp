@@ -1,0 +1,104 @@
+#pragma once
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "core/backend/keyframe.hpp"
+#include "core/backend/keyframe_selector.hpp"
+#include "core/backend/loop_event.hpp"
+#include "core/backend/loop_verifier.hpp"
+#include "core/backend/pose_graph.hpp"
+#include "core/backend/scan_context.hpp"
+#include "core/backend/scan_context_database.hpp"
+#include "core/odometry/odometry_result.hpp"
+
+namespace dammloam::backend {
+
+struct BackendConfig {
+  KeyframeSelectorConfig keyframes;
+  ScanContextConfig scan_context;
+  ScanContextDatabaseConfig database;
+  LoopVerifierConfig verifier;
+  PoseGraphConfig pose_graph;
+  double keyframe_voxel_size = 0.4;     // keyframe clouds are stored at this resolution
+  double global_map_voxel_size = 0.3;
+  int max_verifications_per_keyframe = 2;
+  double loop_translation_sigma = 0.05; // metres, loop edge uncertainty
+  double loop_rotation_sigma = 0.01;    // radians
+};
+
+// Corrected pose of one odometry scan.
+struct CorrectedPose {
+  std::uint64_t scan_index = 0;
+  double stamp = 0.0;
+  Eigen::Isometry3d T_world_sensor = Eigen::Isometry3d::Identity();
+};
+
+// The back-end facade used by dammloam-odometry and dammloamd.
+//
+// Threading: AddScan() is cheap and meant for the odometry thread; Process() does all heavy
+// work (descriptors, retrieval, verification, Ceres) and is meant for ONE back-end thread owned
+// by the caller. They share only a mutex-protected inbox and the table of pose corrections, each
+// locked briefly, so the odometry thread never waits for an optimisation. CorrectedPose(),
+// CorrectedTrajectory() may be called from any thread. ExportMap()/NumKeyframes() wait for a
+// running Process() to finish.
+class LoopClosingBackend {
+ public:
+  explicit LoopClosingBackend(const BackendConfig& config = {});
+
+  // Records the scan's odometry pose; copies its cloud when it becomes a keyframe.
+  void AddScan(const OdometryResult& result);
+  // Integrates queued keyframes, detects and verifies loops, optimises when a loop is accepted.
+  // Returns every loop candidate examined (accepted or rejected).
+  std::vector<LoopEvent> Process();
+
+  // Odometry pose of the scan corrected by the latest optimisation; nullopt for unknown scans.
+  std::optional<Eigen::Isometry3d> CorrectedPoseOf(std::uint64_t scan_index) const;
+  std::vector<CorrectedPose> CorrectedTrajectory() const;
+
+  std::size_t NumKeyframes() const;
+  std::size_t NumAcceptedLoops() const;
+  // Keyframes, loops and the global labelled map, for saving or localization.
+  MapData ExportMap() const;
+
+ private:
+  struct ScanRecord {
+    std::uint64_t scan_index;
+    double stamp;
+    Eigen::Isometry3d T_world_sensor_odom;
+    std::uint32_t keyframe;  // the keyframe at or before this scan
+  };
+  struct PendingKeyframe {
+    Keyframe keyframe;       // cloud not yet downsampled, no descriptor
+    double path_length;      // odometry distance from the first scan
+  };
+
+  void IntegrateKeyframe(PendingKeyframe pending);
+  std::vector<LoopEvent> DetectLoops(std::uint32_t query_id);
+  void PublishCorrections();
+
+  BackendConfig config_;
+  LoopVerifier verifier_;
+
+  // Shared between AddScan (odometry thread), Process and the pose getters.
+  mutable std::mutex shared_mutex_;
+  KeyframeSelector selector_;
+  std::vector<PendingKeyframe> inbox_;
+  std::vector<ScanRecord> scans_;
+  std::vector<Eigen::Isometry3d> corrections_;  // per keyframe: T_corrected * T_odom^-1
+  std::uint32_t next_keyframe_id_ = 0;
+  double path_length_ = 0.0;
+  Matrix6d covariance_since_keyframe_ = Matrix6d::Zero();
+
+  // Owned by the Process() thread.
+  mutable std::mutex process_mutex_;
+  std::vector<Keyframe> keyframes_;
+  std::vector<double> keyframe_path_;
+  std::vector<LoopConstraint> loops_;
+  ScanContextDatabase database_;
+  PoseGraph graph_;
+};
+
+}  // namespace dammloam::backend

@@ -1,0 +1,26 @@
+#pragma once
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+
+namespace dammloam::backend {
+
+// One loop candidate and what verification decided about it (accepted or not, and why).
+struct LoopEvent {
+  std::uint32_t query_keyframe = 0;      // the newer keyframe
+  std::uint32_t candidate_keyframe = 0;  // the older keyframe it may revisit
+  std::uint64_t query_scan_index = 0;
+  std::uint64_t candidate_scan_index = 0;
+  double query_stamp = 0.0;
+  double candidate_stamp = 0.0;
+  Eigen::Isometry3d T_candidate_query = Eigen::Isometry3d::Identity();  // registered
+  double scan_context_distance = 1.0;    // 0 = identical descriptors
+  double yaw_guess_rad = 0.0;            // from the column shift
+  double inlier_ratio = 0.0;             // registration overlap
+  double rmse = 0.0;                     // registration residual, metres
+  double odometry_disagreement = 0.0;    // metres between registered and odometry relative pose
+  bool accepted = false;
+  std::string reason;                    // "accepted" or why it was rejected
+};
+
+}  // namespace dammloam::backend

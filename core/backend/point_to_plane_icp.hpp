@@ -1,0 +1,51 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "core/backend/point_kdtree.hpp"
+
+namespace dammloam::backend {
+
+// Indices of one point per voxel (the first seen), so callers can keep labels aligned.
+std::vector<std::size_t> VoxelDownsampleIndices(const std::vector<Eigen::Vector3d>& points,
+                                                double voxel_size);
+std::vector<Eigen::Vector3d> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
+                                             double voxel_size);
+
+// A fixed cloud to register against: points, PCA normals and a k-d tree, built once.
+class IcpTarget {
+ public:
+  explicit IcpTarget(std::vector<Eigen::Vector3d> points, int normal_neighbours = 10);
+  const PointKdTree& tree() const { return tree_; }
+  const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
+  std::size_t size() const { return tree_.size(); }
+
+ private:
+  PointKdTree tree_;
+  std::vector<Eigen::Vector3d> normals_;
+};
+
+struct IcpConfig {
+  int max_iterations = 40;
+  double initial_max_correspondence = 3.0;  // metres; shrinks to the final value (coarse to fine)
+  double final_max_correspondence = 0.6;
+  double inlier_distance = 0.3;             // nearest-neighbour distance counted as overlap
+  double convergence_step = 1e-4;           // stop when the update is this small (m / rad)
+};
+
+struct IcpResult {
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  double inlier_ratio = 0.0;  // share of source points within inlier_distance after alignment
+  double rmse = 0.0;          // point-to-plane residual RMS over those inliers, metres
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Compact robust point-to-plane ICP (paper eq. pt2pl) used by loop verification and
+// localization; Gauss-Newton on SE(3) with a Cauchy-type weight.
+IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target,
+                            const Eigen::Isometry3d& initial_T_target_source,
+                            const IcpConfig& config = {});
+
+}  // namespace dammloam::backend

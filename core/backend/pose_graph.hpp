@@ -1,0 +1,69 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "core/geometry/se3.hpp"
+
+namespace dammloam::backend {
+
+struct PoseGraphConfig {
+  double loop_robust_scale = 1.0;  // Cauchy scale on whitened loop residuals
+  int max_iterations = 100;
+  // Floors on odometry edge standard deviations: registration covariances are often far too
+  // confident, which would leave loop edges nothing to correct.
+  double min_translation_sigma = 0.02;  // metres
+  double min_rotation_sigma = 0.002;    // radians
+};
+
+struct PoseGraphSummary {
+  bool converged = false;
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double solve_ms = 0.0;
+};
+
+// SE(3) pose graph solved with Ceres: each node a position + unit quaternion (quaternion
+// manifold); odometry edges weighted by their inverse covariance, loop edges additionally under
+// a Cauchy loss so that a single wrong loop has bounded influence. Node 0 is held fixed.
+class PoseGraph {
+ public:
+  explicit PoseGraph(const PoseGraphConfig& config = {}) : config_(config) {}
+
+  std::uint32_t AddNode(const Eigen::Isometry3d& T_world_node);
+  // T_from_to: pose of `to` in `from`'s frame; covariance in tangent order [t; r].
+  void AddOdometryEdge(std::uint32_t from, std::uint32_t to, const Eigen::Isometry3d& T_from_to,
+                       const Matrix6d& covariance);
+  void AddLoopEdge(std::uint32_t from, std::uint32_t to, const Eigen::Isometry3d& T_from_to,
+                   const Matrix6d& covariance);
+
+  PoseGraphSummary Optimize();
+
+  std::size_t NumNodes() const { return nodes_.size(); }
+  std::size_t NumLoopEdges() const;
+  Eigen::Isometry3d Pose(std::uint32_t id) const;
+  void SetPose(std::uint32_t id, const Eigen::Isometry3d& T_world_node);
+
+ private:
+  struct Node {
+    double position[3];
+    double quaternion[4];  // x, y, z, w (Eigen's storage order)
+  };
+  struct Edge {
+    std::uint32_t from, to;
+    Eigen::Vector3d t;
+    Eigen::Quaterniond q;
+    Matrix6d sqrt_information;
+    bool loop;
+  };
+  void AddEdge(std::uint32_t from, std::uint32_t to, const Eigen::Isometry3d& T_from_to,
+               const Matrix6d& covariance, bool loop);
+
+  PoseGraphConfig config_;
+  std::vector<Node> nodes_;
+  std::vector<Edge> edges_;
+};
+
+}  // namespace dammloam::backend

@@ -1,0 +1,20 @@
+#pragma once
+
+namespace dammloam {
+
+// Local map parameters. One default serves indoors and outdoors: with voxel_size = 0 the map
+// voxel is derived from the first scan's median range (see AutoVoxelSize), so a 2 m wide
+// corridor gets a fine map and an open street a coarse one.
+struct MapConfig {
+  double voxel_size = 0.0;              // metres; 0 = derive from the first scan
+  double auto_voxel_range_factor = 0.05;  // voxel = factor * median range of the first scan
+  double auto_voxel_min = 0.25;         // metres, clamp of the derived voxel size
+  double auto_voxel_max = 1.0;
+  int max_points_per_voxel = 20;        // per class: a busy class cannot crowd out another
+  double max_distance = 100.0;          // metres; voxels farther from the sensor are dropped
+};
+
+// The map voxel size used for a sequence whose first scan has this median range.
+double AutoVoxelSize(const MapConfig& config, double median_range);
+
+}  // namespace dammloam

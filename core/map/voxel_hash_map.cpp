@@ -1,0 +1,89 @@
+#include "core/map/voxel_hash_map.hpp"
+
+#include <limits>
+
+namespace dammloam {
+
+VoxelHashMap::VoxelHashMap(double voxel_size, double max_distance, int max_points_per_voxel)
+    : voxel_size_(voxel_size),
+      max_distance_(max_distance),
+      max_points_per_voxel_(max_points_per_voxel) {}
+
+void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
+                          const std::vector<PointClass>& labels,
+                          const std::vector<Eigen::Vector3f>& normals,
+                          const Eigen::Isometry3d& T_world_sensor) {
+  const bool has_normals = normals.size() == points.size();
+  const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
+  std::vector<MapPoint> world;
+  world.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
+    const Eigen::Vector3f n = has_normals ? Eigen::Vector3f(R * normals[i])
+                                          : Eigen::Vector3f::Zero();
+    world.push_back({T_world_sensor * points[i], n, label});
+  }
+  AddPoints(world);
+  RemoveFarVoxels(T_world_sensor.translation());
+}
+
+void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
+  for (const MapPoint& p : points) {
+    VoxelBlock& block = map_[PointToVoxel(p.position, voxel_size_)];
+    auto& count = block.counts[Index(p.label)];
+    if (static_cast<int>(count) >= max_points_per_voxel_) continue;
+    ++count;
+    block.points.push_back(p);
+  }
+}
+
+void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
+  const double max_sq = max_distance_ * max_distance_;
+  for (auto it = map_.begin(); it != map_.end();) {
+    const Eigen::Vector3d& p = it->second.points.front().position;
+    if ((p - origin).squaredNorm() > max_sq) {
+      it = map_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
+                                               std::optional<PointClass> label) const {
+  const Voxel centre = PointToVoxel(query, voxel_size_);
+  const MapPoint* best = nullptr;
+  double best_sq = std::numeric_limits<double>::max();
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const auto it = map_.find(centre + Voxel(dx, dy, dz));
+        if (it == map_.end()) continue;
+        for (const MapPoint& p : it->second.points) {
+          if (label && p.label != *label) continue;
+          const double d_sq = (p.position - query).squaredNorm();
+          if (d_sq < best_sq) {
+            best_sq = d_sq;
+            best = &p;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+std::vector<MapPoint> VoxelHashMap::Points() const {
+  std::vector<MapPoint> out;
+  out.reserve(NumPoints());
+  for (const auto& [voxel, block] : map_) out.insert(out.end(), block.points.begin(), block.points.end());
+  return out;
+}
+
+std::size_t VoxelHashMap::NumPoints() const {
+  std::size_t n = 0;
+  for (const auto& [voxel, block] : map_) n += block.points.size();
+  return n;
+}
+
+}  // namespace dammloam

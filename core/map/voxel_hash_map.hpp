@@ -1,0 +1,59 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
+#include <tsl/robin_map.h>
+#include <vector>
+
+#include "core/geometry/point_class.hpp"
+#include "core/geometry/voxel.hpp"
+
+namespace dammloam {
+
+// One map point, world frame. The normal is zero where the feature stage had none.
+struct MapPoint {
+  Eigen::Vector3d position;
+  Eigen::Vector3f normal;
+  PointClass label;
+};
+
+// Sparse voxel grid of labelled points with normals (KISS-ICP's map, plus class and normal).
+// Neighbour search looks at the 27 voxels around a query and, when asked for a class, only at
+// points of that class: the paper's class-wise correspondences.
+class VoxelHashMap {
+ public:
+  VoxelHashMap(double voxel_size, double max_distance, int max_points_per_voxel);
+
+  // Adds sensor-frame points (with labels and sensor-frame normals) seen from T_world_sensor,
+  // then drops voxels farther than max_distance from the sensor. Normals may be empty.
+  void Update(const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
+              const std::vector<Eigen::Vector3f>& normals, const Eigen::Isometry3d& T_world_sensor);
+  // World-frame insertion; a voxel keeps at most max_points_per_voxel points of each class.
+  void AddPoints(const std::vector<MapPoint>& points);
+  void RemoveFarVoxels(const Eigen::Vector3d& origin);
+
+  // Nearest map point to `query` in the 27-voxel neighbourhood, restricted to `label` when
+  // given. nullptr when there is none.
+  const MapPoint* ClosestNeighbour(const Eigen::Vector3d& query,
+                                   std::optional<PointClass> label) const;
+
+  std::vector<MapPoint> Points() const;
+  std::size_t NumPoints() const;
+  std::size_t NumVoxels() const { return map_.size(); }
+  bool empty() const { return map_.empty(); }
+  void Clear() { map_.clear(); }
+  double voxel_size() const { return voxel_size_; }
+  double max_distance() const { return max_distance_; }
+
+ private:
+  struct VoxelBlock {
+    std::vector<MapPoint> points;
+    ClassCounts counts{};
+  };
+  double voxel_size_;
+  double max_distance_;
+  int max_points_per_voxel_;
+  tsl::robin_map<Voxel, VoxelBlock, VoxelHash> map_;
+};
+
+}  // namespace dammloam

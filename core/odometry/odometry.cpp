@@ -1,0 +1,157 @@
+#include "core/odometry/odometry.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/odometry/frame_downsample.hpp"
+#include "core/preprocess/deskew.hpp"
+#include "core/registration/registration.hpp"
+
+namespace dammloam {
+
+namespace {
+
+class Stopwatch {
+ public:
+  double LapMs() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+double MedianRange(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> ranges;
+  ranges.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) ranges.push_back(p.norm());
+  if (ranges.empty()) return 0.0;
+  auto mid = ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2);
+  std::nth_element(ranges.begin(), mid, ranges.end());
+  return *mid;
+}
+
+template <typename T>
+std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
+  std::vector<T> out;
+  if (values.empty()) return out;
+  out.reserve(indices.size());
+  for (std::size_t i : indices) out.push_back(values[i]);
+  return out;
+}
+
+}  // namespace
+
+Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
+    : config_(config),
+      sensor_(sensor),
+      downsampler_(config.downsample),
+      map_(AutoVoxelSize(config.map, 0.0), config.map.max_distance,
+           config.map.max_points_per_voxel),
+      threshold_(config.registration.initial_threshold,
+                 config.registration.min_motion_threshold, config.map.max_distance) {}
+
+Eigen::Matrix3d Odometry::PredictedOrientation() const {
+  return (T_world_last_ * ExpSE3(velocity_ * sensor_.scan_period)).linear();
+}
+
+void Odometry::Initialise(const ClassifiedScan& scan) {
+  map_ = VoxelHashMap(AutoVoxelSize(config_.map, MedianRange(scan.scan.points)),
+                      config_.map.max_distance, config_.map.max_points_per_voxel);
+  initialised_ = true;
+}
+
+void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor) {
+  const std::vector<std::size_t> kept = ClassVoxelDownsample(
+      scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
+  map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
+              Gather(scan.normals, kept), T_world_sensor);
+}
+
+OdometryResult Odometry::Register(ClassifiedScan&& scan) {
+  Stopwatch watch;
+  OdometryResult result;
+  result.stamp = scan.scan.t_start;
+  result.scan_index = next_index_++;
+  result.class_counts = scan.class_counts;
+  result.T_world_sensor = T_world_last_;
+  result.velocity = velocity_;
+  result.timings.projection_ms = scan.projection_ms;
+  result.timings.normals_ms = scan.normals_ms;
+  result.timings.classification_ms = scan.classification_ms;
+
+  // Reject what cannot be registered before touching any state.
+  if (scan.scan.empty()) {
+    result.status = OdometryStatus::kEmptyScan;
+  } else if (static_cast<int>(scan.scan.size()) < config_.min_points) {
+    result.status = OdometryStatus::kTooFewPoints;
+  } else if (initialised_ && scan.scan.t_start <= last_stamp_) {
+    result.status = OdometryStatus::kNonIncreasingStamp;
+  }
+  if (!Registered(result.status)) return result;
+
+  const double dt = initialised_ ? scan.scan.t_start - last_stamp_ : sensor_.scan_period;
+  if (initialised_ && dt > config_.max_time_gap) {
+    velocity_.setZero();
+    result.status = OdometryStatus::kTimeGap;
+  }
+
+  // Deskew to the scan start with the constant-velocity motion over one period.
+  if (config_.deskew) {
+    DeskewScan(scan, ExpSE3(velocity_ * sensor_.scan_period), sensor_.scan_period);
+  }
+  result.timings.deskew_ms = watch.LapMs();
+
+  const std::vector<std::size_t> source_idx = downsampler_.Select(scan.scan.points, scan.labels);
+  const std::vector<Eigen::Vector3d> source = Gather(scan.scan.points, source_idx);
+  const std::vector<PointClass> source_labels = Gather(scan.labels, source_idx);
+  result.timings.downsample_ms = watch.LapMs();
+
+  Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
+  if (!initialised_) {
+    Initialise(scan);
+    result.status = OdometryStatus::kFirstScan;
+  } else {
+    const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
+    const double sigma = threshold_.Sigma();
+    const RegistrationResult reg = RegisterScan(source, source_labels, map_, T_pred,
+                                                3.0 * sigma, sigma / 3.0, config_.registration);
+    result.timings.registration_ms = watch.LapMs();
+    result.covariance = reg.covariance;
+    result.degeneracy = reg.degeneracy;
+    result.alpha = reg.alpha;
+    result.num_correspondences = reg.num_planar + reg.num_point;
+    result.iterations = reg.iterations;
+    result.converged = reg.converged;
+    if (!reg.enough_correspondences) {
+      result.status = OdometryStatus::kTooFewCorrespondences;
+      result.T_world_sensor = T_pred;
+      return result;
+    }
+    T_new = reg.T_world_sensor;
+    if (result.status != OdometryStatus::kTimeGap) {
+      threshold_.UpdateModelDeviation(T_pred.inverse() * T_new);
+    }
+    velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
+  }
+
+  UpdateMap(scan, T_new);
+  result.timings.map_update_ms = watch.LapMs();
+  T_world_last_ = T_new;
+  last_stamp_ = scan.scan.t_start;
+
+  result.T_world_sensor = T_new;
+  result.velocity = velocity_;
+  const StageTimings& t = result.timings;
+  result.timings.total_ms = t.projection_ms + t.normals_ms + t.classification_ms + t.deskew_ms +
+                            t.downsample_ms + t.registration_ms + t.map_update_ms;
+  result.deskewed_points = std::move(scan.scan.points);
+  result.labels = std::move(scan.labels);
+  result.normals = std::move(scan.normals);
+  return result;
+}
+
+}  // namespace dammloam

@@ -1,0 +1,51 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+
+#include "core/geometry/scan.hpp"
+#include "core/geometry/se3.hpp"
+#include "core/map/voxel_hash_map.hpp"
+#include "core/odometry/odometry_config.hpp"
+#include "core/odometry/odometry_result.hpp"
+#include "core/preprocess/classified_scan.hpp"
+#include "core/preprocess/downsample.hpp"
+#include "core/registration/adaptive_threshold.hpp"
+
+namespace dammloam {
+
+// The registration half of the front end: deskew, class-aware downsampling, robust
+// scan-to-map registration, map update. Owns all its state (no statics): any number of
+// instances can run side by side.
+class Odometry {
+ public:
+  Odometry(const OdometryConfig& config, const SensorModel& sensor);
+
+  // R_world_sensor expected for the next scan (constant velocity over one scan period): the
+  // feature stage uses it to judge "up".
+  Eigen::Matrix3d PredictedOrientation() const;
+
+  OdometryResult Register(ClassifiedScan&& scan);
+
+  const VoxelHashMap& local_map() const { return map_; }
+  const Eigen::Isometry3d& last_pose() const { return T_world_last_; }
+  // Body-frame twist [v; w] per second of the constant-velocity model.
+  const Vector6d& velocity() const { return velocity_; }
+
+ private:
+  void Initialise(const ClassifiedScan& scan);
+  void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
+
+  OdometryConfig config_;
+  SensorModel sensor_;
+  ClassAwareDownsampler downsampler_;
+  VoxelHashMap map_;
+  AdaptiveThreshold threshold_;
+  bool initialised_ = false;
+  double last_stamp_ = 0.0;
+  std::uint64_t next_index_ = 0;
+  Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();
+  Vector6d velocity_ = Vector6d::Zero();
+};
+
+}  // namespace dammloam

@@ -1,0 +1,23 @@
+#pragma once
+
+#include "core/map/map_config.hpp"
+#include "core/preprocess/preprocess_config.hpp"
+#include "core/registration/registration_config.hpp"
+
+namespace dammloam {
+
+// Everything the odometry front end can be told; plain values with defaults that serve
+// OS1-64 and VLP-16, indoors and outdoors (the paper's "consistent parameters").
+struct OdometryConfig {
+  PreprocessConfig preprocess;
+  DownsampleConfig downsample;  // registration source (class-aware, adaptive)
+  MapConfig map;
+  RegistrationConfig registration;
+  // Map insertion keeps one point per class per voxel of this fraction of the map voxel.
+  double map_frame_voxel_factor = 0.5;
+  bool deskew = true;
+  int min_points = 100;        // valid points a scan needs to be registered
+  double max_time_gap = 1.0;   // seconds; a longer gap resets the constant-velocity model
+};
+
+}  // namespace dammloam

@@ -1,0 +1,101 @@
+#include "core/preprocess/classifier.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace dammloam {
+namespace {
+
+constexpr double kMajorityEpsilon = 1e-9;  // 2/3 * 9 must accept 6 votes despite rounding
+
+}  // namespace
+
+Classifier::Classifier(const ClassifierConfig& config)
+    : config_(config), edge_angle_rad_(config.edge_angle_deg * std::numbers::pi / 180.0) {}
+
+// Mean of the pairwise angles, with a cheap exact bound first: for unit vectors the sum of
+// squared chords over all pairs is n^2 - |sum|^2, an angle is at most pi/2 times its chord, and
+// a mean is at most the root mean square. Flat windows (most of a scan) stop there; only the
+// rest pay for the acos of every pair.
+bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const {
+  if (count < 2) return false;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < count; ++i) sum += normals[i].cast<double>();
+  const double pairs = 0.5 * count * (count - 1);
+  const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
+  const double upper_bound = 0.5 * std::numbers::pi * std::sqrt(mean_chord2);
+  if (upper_bound <= edge_angle_rad_) return false;
+
+  double angle_sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    for (int j = i + 1; j < count; ++j) {
+      angle_sum += std::acos(std::clamp(double(normals[i].dot(normals[j])), -1.0, 1.0));
+    }
+  }
+  return angle_sum / pairs > edge_angle_rad_;
+}
+
+PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
+                                      bool centre_valid) const {
+  if (count < config_.min_valid_normals || count == 0) return PointClass::Unknown;
+  if (MeanPairwiseAngleExceeds(normals, count)) return PointClass::Edge;
+  if (config_.require_centre_normal && !centre_valid) return PointClass::Unknown;
+
+  const float k = static_cast<float>(config_.dominance);
+  int up = 0, down = 0, side = 0;
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3f a = normals[i].cwiseAbs();
+    if (a.z() >= k * a.x() && a.z() >= k * a.y()) {
+      (normals[i].z() > 0.0f ? up : down) += 1;
+    } else if ((a.x() >= k * a.y() && a.x() >= k * a.z()) ||
+               (a.y() >= k * a.x() && a.y() >= k * a.z())) {
+      ++side;
+    }
+  }
+  const double needed = config_.majority * count - kMajorityEpsilon;
+  if (up >= needed) return PointClass::Ground;
+  if (down >= needed) return PointClass::Roof;
+  if (side >= needed) return PointClass::Wall;
+  return PointClass::Unknown;
+}
+
+std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
+                                             const Eigen::Matrix3d& R_world_sensor) const {
+  const int rows = normal_map.rows();
+  const int cols = normal_map.cols();
+  const auto& valid = normal_map.validity();
+  const auto& normals = normal_map.normals();
+  const Eigen::Matrix3f R = R_world_sensor.cast<float>();
+
+  // Gravity-aligned normals once per pixel, not once per window they appear in.
+  std::vector<Eigen::Vector3f> aligned(normals.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) aligned[i] = R * normals[i];
+
+  std::vector<PointClass> labels(normals.size(), PointClass::Unknown);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& rr) {
+    Eigen::Vector3f window[9];
+    for (int r = rr.begin(); r < rr.end(); ++r) {
+      for (int c = 0; c < cols; ++c) {
+        int count = 0;
+        for (int dr = -1; dr <= 1; ++dr) {
+          const int wr = r + dr;
+          if (wr < 0 || wr >= rows) continue;
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int wc = c + dc < 0 ? cols - 1 : (c + dc >= cols ? 0 : c + dc);
+            const std::size_t pixel = static_cast<std::size_t>(wr) * cols + wc;
+            if (valid[pixel]) window[count++] = aligned[pixel];
+          }
+        }
+        const std::size_t centre = static_cast<std::size_t>(r) * cols + c;
+        labels[centre] = ClassifyWindow(window, count, valid[centre] != 0);
+      }
+    }
+  });
+  return labels;
+}
+
+}  // namespace dammloam

@@ -1,0 +1,44 @@
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/geometry/point_class.hpp"
+#include "core/preprocess/normal_map.hpp"
+#include "core/preprocess/preprocess_config.hpp"
+
+namespace dammloam {
+
+// Normal-based classification (paper Sec. III-A.3) over the 3x3 window of each pixel (rows
+// clamped, columns wrapping), judged in a gravity-aligned frame: normals are rotated by
+// R_world_sensor first, so "z" is world up even for a tilted or hand-held sensor.
+//
+// Rule order (first match wins):
+//   1. fewer than min_valid_normals valid normals in the window  -> Unknown
+//   2. mean pairwise angle between the valid normals > edge angle -> Edge
+//      (checked before the planar rules: at a wall-wall corner every normal is horizontal, so
+//      the wall vote alone would swallow the corner)
+//   3. >= majority of valid normals with dominant z and n_z > 0    -> Ground
+//   4. >= majority with dominant z and n_z < 0                      -> Roof
+//   5. >= majority with dominant x or y                             -> Wall
+//   6. otherwise                                                   -> Unknown
+// With require_centre_normal, rules 3-5 also need the centre pixel's own normal to be valid.
+// Ground, roof and wall majorities are mutually exclusive, so their order is immaterial.
+class Classifier {
+ public:
+  explicit Classifier(const ClassifierConfig& config);
+
+  // One label per pixel, row-major (rows * cols). Labels of empty pixels mean nothing.
+  std::vector<PointClass> Classify(const NormalMap& normals,
+                                   const Eigen::Matrix3d& R_world_sensor) const;
+
+  // The rules above for one window of valid, unit, gravity-aligned normals (any count).
+  PointClass ClassifyWindow(const Eigen::Vector3f* normals, int count, bool centre_valid) const;
+
+ private:
+  bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const;
+
+  ClassifierConfig config_;
+  double edge_angle_rad_;
+};
+
+}  // namespace dammloam

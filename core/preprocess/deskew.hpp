@@ -1,0 +1,16 @@
+#pragma once
+#include <Eigen/Geometry>
+
+#include "core/preprocess/classified_scan.hpp"
+
+namespace dammloam {
+
+// Motion compensation under a constant-velocity model: a point fired at time t (seconds since
+// the scan start) was measured in the sensor frame at fraction s = t / scan_period of the
+// scan's motion, so it moves to the scan-start frame by ScaleMotion(T_start_end, s)
+// (T_start_end: the sensor pose at scan end expressed in the scan-start frame). Normals are
+// rotated by the same rotation. Scans without per-point times are left unchanged, as are all
+// scans when scan_period is not positive.
+void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period);
+
+}  // namespace dammloam

@@ -1,0 +1,103 @@
+#include "core/preprocess/feature_extractor.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/preprocess/normal_map.hpp"
+#include "core/preprocess/range_image.hpp"
+
+namespace dammloam {
+namespace {
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+template <typename T>
+void DiscardIfInconsistent(std::vector<T>& field, std::size_t n) {
+  if (field.size() != n) field.clear();
+}
+
+// Compacts every per-point vector to the points that pass; returns how many were dropped.
+std::size_t RemoveInvalidPoints(Scan& scan, double min_range, double max_range) {
+  const std::size_t n = scan.points.size();
+  DiscardIfInconsistent(scan.intensities, n);
+  DiscardIfInconsistent(scan.times, n);
+  DiscardIfInconsistent(scan.rings, n);
+  const double min2 = min_range * min_range;
+  const double max2 = max_range * max_range;
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r2 = scan.points[i].squaredNorm();  // NaN/inf fail both comparisons below
+    const bool keep = r2 >= min2 && r2 <= max2 && scan.points[i].allFinite() &&
+                      (scan.times.empty() || std::isfinite(scan.times[i]));
+    if (!keep) continue;
+    if (out != i) {
+      scan.points[out] = scan.points[i];
+      if (!scan.intensities.empty()) scan.intensities[out] = scan.intensities[i];
+      if (!scan.times.empty()) scan.times[out] = scan.times[i];
+      if (!scan.rings.empty()) scan.rings[out] = scan.rings[i];
+    }
+    ++out;
+  }
+  scan.points.resize(out);
+  if (!scan.intensities.empty()) scan.intensities.resize(out);
+  if (!scan.times.empty()) scan.times.resize(out);
+  if (!scan.rings.empty()) scan.rings.resize(out);
+  return n - out;
+}
+
+}  // namespace
+
+FeatureExtractor::FeatureExtractor(const PreprocessConfig& config, const SensorModel& sensor)
+    : config_(config),
+      sensor_(sensor),
+      classifier_(config.classifier),
+      min_range_(std::max(config.min_range, sensor.min_range)),
+      max_range_(sensor.max_range > 0.0 ? std::min(config.max_range, sensor.max_range)
+                                        : config.max_range) {}
+
+ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor) const {
+  ClassifiedScan out;
+  out.dropped_invalid = RemoveInvalidPoints(scan, min_range_, max_range_);
+  out.scan = std::move(scan);
+  const auto& points = out.scan.points;
+  const std::size_t n = points.size();
+
+  auto start = std::chrono::steady_clock::now();
+  RangeImage image(config_.range_image, sensor_);
+  image.Build(points, out.scan.rings);
+  out.projection_ms = MillisecondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  const NormalMap normal_map(image, config_.normals);
+  out.normals_ms = MillisecondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  const std::vector<PointClass> pixel_labels = classifier_.Classify(normal_map, R_world_sensor);
+  out.labels.assign(n, PointClass::Unknown);
+  out.normals.assign(n, Eigen::Vector3f::Zero());
+  const double inherit2 = config_.range_image.max_inherit_distance *
+                          config_.range_image.max_inherit_distance;
+  const auto& pixel_normals = normal_map.normals();
+  const int cols = image.cols();
+  for (std::size_t i = 0; i < n; ++i) {
+    const int pixel = image.pixel_of(i);
+    if (pixel < 0) continue;
+    const int winner = image.index(pixel / cols, pixel % cols);
+    if (winner != static_cast<int>(i) &&
+        (points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2) {
+      continue;
+    }
+    out.labels[i] = pixel_labels[static_cast<std::size_t>(pixel)];
+    out.normals[i] = pixel_normals[static_cast<std::size_t>(pixel)];
+  }
+  out.class_counts.fill(0);
+  for (const PointClass label : out.labels) ++out.class_counts[Index(label)];
+  out.classification_ms = MillisecondsSince(start);
+  return out;
+}
+
+}  // namespace dammloam

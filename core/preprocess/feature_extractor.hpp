@@ -1,0 +1,35 @@
+#pragma once
+#include <Eigen/Core>
+
+#include "core/geometry/scan.hpp"
+#include "core/preprocess/classified_scan.hpp"
+#include "core/preprocess/classifier.hpp"
+#include "core/preprocess/preprocess_config.hpp"
+
+namespace dammloam {
+
+// The feature stage of DAMM-LOAM (paper Sec. III-A): validation, spherical projection, normal
+// map and classification of one scan. Extract() is const and keeps no state between calls, so
+// one extractor may serve several threads at once.
+class FeatureExtractor {
+ public:
+  FeatureExtractor(const PreprocessConfig& config, const SensorModel& sensor);
+
+  // Drops points that are not finite (point or time) or outside the valid range (the config's
+  // interval intersected with the sensor's), keeping every per-point vector consistent, then
+  // labels every remaining point and gives it a normal (sensor frame, zero if none).
+  // A point that lost its pixel to a nearer one takes the winner's label and normal when it is
+  // within max_inherit_distance of it, else Unknown. R_world_sensor: predicted orientation,
+  // used to judge up/down and vertical surfaces. Optional per-point fields (intensities, times,
+  // rings) whose size is neither 0 nor points.size() are discarded as unusable.
+  ClassifiedScan Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor) const;
+
+ private:
+  PreprocessConfig config_;
+  SensorModel sensor_;
+  Classifier classifier_;
+  double min_range_;
+  double max_range_;
+};
+
+}  // namespace dammloam

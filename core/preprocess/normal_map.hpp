@@ -1,0 +1,45 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>  // cross product
+#include <cstdint>
+#include <vector>
+
+#include "core/preprocess/preprocess_config.hpp"
+#include "core/preprocess/range_image.hpp"
+
+namespace dammloam {
+
+// Per-pixel surface normals of a range image (paper Sec. III-A.2):
+//   t_u = p(r, c+1) - p(r, c-1)   (columns wrap around 360 deg)
+//   t_v = p(r+1, c) - p(r-1, c)   (rows do not wrap; the top and bottom rows use p(r, c)
+//                                  for their missing neighbour: a one-sided difference)
+//   n   = (t_u x t_v) / |t_u x t_v|, flipped so that n . p <= 0 (facing the sensor).
+// A normal is invalid when one of the four neighbours is empty, when a neighbour lies across a
+// depth discontinuity (see NormalMapConfig), or when the tangents are (nearly) parallel.
+class NormalMap {
+ public:
+  NormalMap(const RangeImage& image, const NormalMapConfig& config);
+
+  int rows() const { return rows_; }
+  int cols() const { return cols_; }
+  bool valid(int r, int c) const { return valid_[r * cols_ + c] != 0; }
+  // Unit normal in the sensor frame; zero where invalid.
+  const Eigen::Vector3f& normal(int r, int c) const { return normals_[r * cols_ + c]; }
+  // Flat (row-major) views for the classifier.
+  const std::vector<Eigen::Vector3f>& normals() const { return normals_; }
+  const std::vector<std::uint8_t>& validity() const { return valid_; }
+
+ private:
+  void ComputeRow(const RangeImage& image, int r);
+  bool Continuous(const Eigen::Vector3d& p, const Eigen::Vector3d& q) const;
+
+  int rows_;
+  int cols_;
+  double cot_min_incidence_;
+  double range_noise_;
+  double min_tangent_sine_;
+  std::vector<Eigen::Vector3f> normals_;
+  std::vector<std::uint8_t> valid_;
+};
+
+}  // namespace dammloam

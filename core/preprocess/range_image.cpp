@@ -1,0 +1,136 @@
+#include "core/preprocess/range_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numbers>
+
+namespace dammloam {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kAngleTableStep = 0.005 * std::numbers::pi / 180.0;  // 0.005 deg bins
+
+int PositiveOr(int value, int fallback) { return value > 0 ? value : fallback; }
+
+bool Projectable(const Eigen::Vector3d& p) {
+  const double r2 = p.squaredNorm();
+  return std::isfinite(r2) && r2 > 0.0;
+}
+
+double Elevation(const Eigen::Vector3d& p) { return std::atan2(p.z(), p.head<2>().norm()); }
+
+}  // namespace
+
+RangeImage::RangeImage(const RangeImageConfig& config, const SensorModel& sensor)
+    : configured_rows_(PositiveOr(config.rows, PositiveOr(sensor.rings, 64))),
+      rows_(configured_rows_),
+      cols_(PositiveOr(config.cols, PositiveOr(sensor.columns, 1024))) {
+  for (const double deg : sensor.vertical_angles_deg) {
+    if (std::isfinite(deg)) vertical_angles_rad_.push_back(deg * std::numbers::pi / 180.0);
+  }
+  // Rows run from the highest beam down, whatever order the angles were listed in.
+  std::sort(vertical_angles_rad_.begin(), vertical_angles_rad_.end(), std::greater<>());
+  BuildAngleTable();
+}
+
+void RangeImage::BuildAngleTable() {
+  if (vertical_angles_rad_.size() < 2) return;
+  table_min_ = vertical_angles_rad_.back();
+  const double span = vertical_angles_rad_.front() - table_min_;
+  const auto bins = static_cast<std::size_t>(std::ceil(span / kAngleTableStep)) + 1;
+  table_step_ = kAngleTableStep;
+  angle_table_.resize(bins);
+  // Angles are sorted descending, so the nearest row for increasing elevation only decreases.
+  int row = static_cast<int>(vertical_angles_rad_.size()) - 1;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double phi = table_min_ + (static_cast<double>(b) + 0.5) * table_step_;
+    while (row > 0 && std::abs(vertical_angles_rad_[row - 1] - phi) <
+                          std::abs(vertical_angles_rad_[row] - phi)) {
+      --row;
+    }
+    angle_table_[b] = row;
+  }
+}
+
+int RangeImage::ColumnOf(const Eigen::Vector3d& p) const {
+  const double azimuth = std::atan2(p.y(), p.x());
+  const int c = static_cast<int>(std::floor((azimuth + std::numbers::pi) / kTwoPi * cols_));
+  return c >= cols_ ? c - cols_ : (c < 0 ? c + cols_ : c);
+}
+
+void RangeImage::ComputeRowsFromRings(const std::vector<std::int16_t>& rings) {
+  int max_ring = -1;
+  for (const auto ring : rings) max_ring = std::max<int>(max_ring, ring);
+  rows_ = std::max(configured_rows_, max_ring + 1);
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    if (point_row_[i] == 0) point_row_[i] = rings[i] >= 0 ? rings[i] : -1;
+  }
+}
+
+void RangeImage::ComputeRowsFromAngles(const std::vector<Eigen::Vector3d>& points) {
+  rows_ = static_cast<int>(vertical_angles_rad_.size());
+  const int last_bin = static_cast<int>(angle_table_.size()) - 1;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (point_row_[i] != 0) continue;
+    const double bin = std::floor((Elevation(points[i]) - table_min_) / table_step_);
+    point_row_[i] = angle_table_[static_cast<std::size_t>(std::clamp(bin, 0.0, double(last_bin)))];
+  }
+}
+
+void RangeImage::ComputeRowsFromSpan(const std::vector<Eigen::Vector3d>& points) {
+  rows_ = configured_rows_;
+  // Two passes (span, then bins) compute each elevation twice; only unorganised clouds without
+  // known beam angles take this path.
+  double lowest = std::numeric_limits<double>::infinity();
+  double highest = -lowest;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (point_row_[i] != 0) continue;
+    const double phi = Elevation(points[i]);
+    lowest = std::min(lowest, phi);
+    highest = std::max(highest, phi);
+  }
+  const double span = highest - lowest;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (point_row_[i] != 0) continue;
+    const double t = span > 0.0 ? (highest - Elevation(points[i])) / span : 0.0;
+    point_row_[i] = std::min(rows_ - 1, static_cast<int>(t * rows_));
+  }
+}
+
+void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
+                       const std::vector<std::int16_t>& rings) {
+  const std::size_t n = points.size();
+  // point_row_: -1 = not projectable, 0 = pending (the row computations overwrite it).
+  point_row_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) point_row_[i] = Projectable(points[i]) ? 0 : -1;
+
+  if (rings.size() == n && n > 0) {
+    ComputeRowsFromRings(rings);
+  } else if (!angle_table_.empty()) {
+    ComputeRowsFromAngles(points);
+  } else {
+    ComputeRowsFromSpan(points);
+  }
+
+  const std::size_t pixels = static_cast<std::size_t>(rows_) * cols_;
+  index_.assign(pixels, -1);
+  range_.assign(pixels, 0.0f);
+  point_.assign(pixels, Eigen::Vector3d::Zero());
+  pixel_of_.assign(n, -1);
+
+  for (std::size_t i = 0; i < n; ++i) {
+    if (point_row_[i] < 0) continue;
+    const int pixel = Flat(point_row_[i], ColumnOf(points[i]));
+    pixel_of_[i] = pixel;
+    // Strictly nearer replaces: on a tie the earlier (lower) index keeps the pixel.
+    if (index_[pixel] < 0 || points[i].squaredNorm() < point_[pixel].squaredNorm()) {
+      index_[pixel] = static_cast<int>(i);
+      range_[pixel] = static_cast<float>(points[i].norm());
+      point_[pixel] = points[i];
+    }
+  }
+}
+
+}  // namespace dammloam

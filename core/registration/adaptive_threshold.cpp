@@ -1,0 +1,27 @@
+#include "core/registration/adaptive_threshold.hpp"
+
+#include <cmath>
+
+namespace dammloam {
+
+AdaptiveThreshold::AdaptiveThreshold(double initial_threshold, double min_motion_threshold,
+                                     double reference_range)
+    : initial_threshold_(initial_threshold),
+      min_motion_threshold_(min_motion_threshold),
+      reference_range_(reference_range) {}
+
+void AdaptiveThreshold::UpdateModelDeviation(const Eigen::Isometry3d& model_deviation) {
+  const double theta = Eigen::AngleAxisd(model_deviation.linear()).angle();
+  const double rotation_error = 2.0 * reference_range_ * std::sin(theta / 2.0);
+  const double error = rotation_error + model_deviation.translation().norm();
+  if (error > min_motion_threshold_) {
+    model_sse_ += error * error;
+    ++num_samples_;
+  }
+}
+
+double AdaptiveThreshold::Sigma() const {
+  return num_samples_ < 1 ? initial_threshold_ : std::sqrt(model_sse_ / num_samples_);
+}
+
+}  // namespace dammloam

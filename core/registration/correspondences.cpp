@@ -1,0 +1,54 @@
+#include "core/registration/correspondences.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace dammloam {
+
+namespace {
+enum class PairKind : std::uint8_t { kNone, kPlanar, kPoint };
+
+PairKind Classify(RegistrationMode mode, PointClass source_label, const MapPoint& target) {
+  const bool has_normal = target.normal.squaredNorm() > 0.5f;
+  switch (mode) {
+    case RegistrationMode::kPointToPoint: return PairKind::kPoint;
+    case RegistrationMode::kPlaneOnly: return has_normal ? PairKind::kPlanar : PairKind::kNone;
+    case RegistrationMode::kFull:
+    case RegistrationMode::kClassesNoDegeneracy: break;
+  }
+  return IsPlanar(source_label) && has_normal ? PairKind::kPlanar : PairKind::kPoint;
+}
+}  // namespace
+
+CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
+                                      const std::vector<PointClass>& labels,
+                                      const VoxelHashMap& map, double max_distance,
+                                      RegistrationMode mode) {
+  const std::size_t n = source_world.size();
+  std::vector<const MapPoint*> match(n, nullptr);
+  std::vector<PairKind> kind(n, PairKind::kNone);
+  const double max_sq = max_distance * max_distance;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
+      const std::optional<PointClass> wanted =
+          ClassWise(mode) ? std::optional<PointClass>(label) : std::nullopt;
+      const MapPoint* q = map.ClosestNeighbour(source_world[i], wanted);
+      if (q == nullptr || (q->position - source_world[i]).squaredNorm() > max_sq) continue;
+      match[i] = q;
+      kind[i] = Classify(mode, label, *q);
+    }
+  });
+  CorrespondenceSet out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kind[i] == PairKind::kNone) continue;
+    const Correspondence c{source_world[i], match[i]->position,
+                           match[i]->normal.cast<double>().normalized()};
+    (kind[i] == PairKind::kPlanar ? out.planar : out.point).push_back(c);
+  }
+  return out;
+}
+
+}  // namespace dammloam

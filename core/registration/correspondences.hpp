@@ -1,0 +1,34 @@
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/geometry/point_class.hpp"
+#include "core/map/voxel_hash_map.hpp"
+#include "core/registration/registration_config.hpp"
+
+namespace dammloam {
+
+// A source point (world frame, under the current pose estimate) paired with a map point.
+// For planar pairs `normal` is the map point's stored unit normal (paper eq. pt2pl).
+struct Correspondence {
+  Eigen::Vector3d source;
+  Eigen::Vector3d target;
+  Eigen::Vector3d normal;
+};
+
+struct CorrespondenceSet {
+  std::vector<Correspondence> planar;  // point-to-plane residuals
+  std::vector<Correspondence> point;   // point-to-point residuals
+  std::size_t size() const { return planar.size() + point.size(); }
+};
+
+// Nearest-neighbour pairs within max_distance, in source order (deterministic; TBB parallel).
+// Class-wise modes: a source point only matches map points of its own class; ground, roof and
+// wall become point-to-plane, edge and unknown point-to-point. kPointToPoint ignores classes
+// and normals; kPlaneOnly ignores classes and makes every pair with a map normal planar.
+CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
+                                      const std::vector<PointClass>& labels,
+                                      const VoxelHashMap& map, double max_distance,
+                                      RegistrationMode mode);
+
+}  // namespace dammloam

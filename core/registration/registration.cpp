@@ -1,0 +1,164 @@
+#include "core/registration/registration.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include "core/registration/correspondences.hpp"
+#include "core/registration/degeneracy_weights.hpp"
+
+namespace dammloam {
+
+namespace {
+
+// Normal equations of the weighted objective; tangent order [t; r] (see degeneracy_weights.hpp).
+struct LinearSystem {
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d b = Vector6d::Zero();
+  double chi2 = 0.0;  // weighted squared residual sum
+  LinearSystem& operator+=(const LinearSystem& o) {
+    H += o.H;
+    b += o.b;
+    chi2 += o.chi2;
+    return *this;
+  }
+};
+
+// Geman-McClure IRLS weight, KISS-ICP's form.
+double RobustWeight(double residual_sq, double kernel_scale) {
+  const double d = kernel_scale + residual_sq;
+  return kernel_scale * kernel_scale / (d * d);
+}
+
+// Fixed-size blocks and a deterministic reduction: the sum's rounding does not depend on
+// thread scheduling, so identical inputs give bit-identical poses.
+template <typename Fn>
+LinearSystem ReduceDeterministic(std::size_t n, Fn add_term) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 512), LinearSystem{},
+      [&](const tbb::blocked_range<std::size_t>& r, LinearSystem acc) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) add_term(i, acc);
+        return acc;
+      },
+      [](LinearSystem a, const LinearSystem& b) { return a += b; });
+}
+
+// Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl).
+LinearSystem PlanarSystem(const std::vector<Correspondence>& pairs,
+                          const std::vector<double>& weights, double alpha, double kernel_scale) {
+  return ReduceDeterministic(pairs.size(), [&](std::size_t i, LinearSystem& acc) {
+    const Correspondence& c = pairs[i];
+    const double r = c.normal.dot(c.source - c.target);
+    Vector6d J;
+    J << c.normal, c.source.cross(c.normal);
+    const double w = alpha * weights[i] * RobustWeight(r * r, kernel_scale);
+    acc.H.noalias() += w * J * J.transpose();
+    acc.b.noalias() += w * r * J;
+    acc.chi2 += w * r * r;
+  });
+}
+
+// Point-to-point: r = s - q, J = [I, -Hat(s)] (paper eq. pt2pt).
+LinearSystem PointSystem(const std::vector<Correspondence>& pairs, double weight,
+                         double kernel_scale) {
+  return ReduceDeterministic(pairs.size(), [&](std::size_t i, LinearSystem& acc) {
+    const Correspondence& c = pairs[i];
+    const Eigen::Vector3d r = c.source - c.target;
+    Eigen::Matrix<double, 3, 6> J;
+    J << Eigen::Matrix3d::Identity(), -Hat(c.source);
+    const double w = weight * RobustWeight(r.squaredNorm(), kernel_scale);
+    acc.H.noalias() += w * J.transpose() * J;
+    acc.b.noalias() += w * J.transpose() * r;
+    acc.chi2 += w * r.squaredNorm();
+  });
+}
+
+// GenZ-ICP's alpha = N_pl / (N_pl + N_po); the single-residual ablations use all of one sum.
+double Alpha(RegistrationMode mode, std::size_t num_planar, std::size_t num_point) {
+  if (mode == RegistrationMode::kPointToPoint) return 0.0;
+  if (mode == RegistrationMode::kPlaneOnly) return 1.0;
+  const std::size_t n = num_planar + num_point;
+  return n == 0 ? 0.0 : static_cast<double>(num_planar) / static_cast<double>(n);
+}
+
+Matrix6d Regularised(const Matrix6d& H, double relative) {
+  const double scale = std::max(H.trace() / 6.0, 1e-12);
+  return H + relative * scale * Matrix6d::Identity();
+}
+
+// Solution remapping: keep only the part of the translation step that lies in
+// well-constrained eigen-directions.
+void RemapDegenerateTranslation(const DegeneracyReport& report, Vector6d& dx) {
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (!report.degenerate[i]) {
+      P.noalias() += report.eigenvectors.col(i) * report.eigenvectors.col(i).transpose();
+    }
+  }
+  dx.head<3>() = P * dx.head<3>();
+}
+
+void Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
+  for (Eigen::Vector3d& p : points) p = T * p;
+}
+
+}  // namespace
+
+RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
+                                const std::vector<PointClass>& labels, const VoxelHashMap& map,
+                                const Eigen::Isometry3d& initial_guess,
+                                double max_correspondence_distance, double kernel_scale,
+                                const RegistrationConfig& config) {
+  RegistrationResult result;
+  result.T_world_sensor = initial_guess;
+  std::vector<Eigen::Vector3d> source_world = source;
+  Transform(initial_guess, source_world);
+  const bool weighted = UsesDegeneracyWeights(config.mode);
+  const bool remap = weighted && config.remap_degenerate_directions;
+
+  for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
+    const CorrespondenceSet pairs = FindCorrespondences(source_world, labels, map,
+                                                        max_correspondence_distance, config.mode);
+    if (pairs.size() < static_cast<std::size_t>(config.min_correspondences)) break;
+    result.enough_correspondences = true;
+
+    const DegeneracyReport report = AnalyseTranslation(
+        PlanarTranslationHessian(pairs.planar), config.degenerate_eigenvalue_ratio);
+    const std::vector<double> weights =
+        weighted ? DegeneracyWeights(pairs.planar, report)
+                 : std::vector<double>(pairs.planar.size(), 1.0);
+    const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
+    LinearSystem system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
+    system += PointSystem(pairs.point, 1.0 - alpha, kernel_scale);
+
+    const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
+    Vector6d dx = -H.ldlt().solve(system.b);
+    if (remap) RemapDegenerateTranslation(report, dx);
+    if (!dx.allFinite()) break;
+    const Eigen::Isometry3d step = ExpSE3(dx);
+    Transform(step, source_world);
+    result.T_world_sensor = step * result.T_world_sensor;
+
+    // Report what the last linearisation saw. Without planar pairs, analyse the full H_tt.
+    result.degeneracy = pairs.planar.empty()
+                            ? AnalyseTranslation(system.H.topLeftCorner<3, 3>(),
+                                                 config.degenerate_eigenvalue_ratio)
+                            : report;
+    result.alpha = alpha;
+    result.num_planar = static_cast<std::uint32_t>(pairs.planar.size());
+    result.num_point = static_cast<std::uint32_t>(pairs.point.size());
+    result.iterations = iteration;
+    const double dof = std::max(1.0, static_cast<double>(pairs.planar.size() +
+                                                         3 * pairs.point.size()) - 6.0);
+    result.covariance = (system.chi2 / dof) * H.inverse();
+    if (dx.norm() < config.convergence_criterion) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.T_world_sensor = Normalized(result.T_world_sensor);
+  return result;
+}
+
+}  // namespace dammloam

@@ -1,0 +1,41 @@
+#pragma once
+#include <optional>
+#include <string_view>
+
+namespace dammloam {
+
+// Which residuals the registration uses. kFull is the paper's method; the others are the
+// ablations of the benchmark.
+enum class RegistrationMode {
+  kFull,                 // class-wise pt2pl/pt2pt, alpha, degeneracy weights, remapping
+  kPointToPoint,         // every point point-to-point, any class (KISS-ICP-like)
+  kPlaneOnly,            // every point point-to-plane against the map normal, any class
+  kClassesNoDegeneracy,  // class-wise pt2pl/pt2pt with alpha, all weights 1
+};
+
+std::string_view Name(RegistrationMode mode);
+std::optional<RegistrationMode> ParseRegistrationMode(std::string_view name);
+
+struct RegistrationConfig {
+  RegistrationMode mode = RegistrationMode::kFull;
+  int max_iterations = 50;
+  double convergence_criterion = 1e-4;  // |dx| (m, rad) below which Gauss-Newton stops
+  // KISS-ICP adaptive threshold: correspondence gate = 3 sigma of the model deviation history,
+  // robust kernel scale = sigma / 3.
+  double initial_threshold = 2.0;       // metres, sigma before any history exists
+  double min_motion_threshold = 0.1;    // metres; smaller deviations do not teach the threshold
+  // A translational direction is degenerate when lambda_i / lambda_max is below this.
+  double degenerate_eigenvalue_ratio = 0.02;
+  // Full mode: translation updates along degenerate directions are dropped, so the estimate
+  // keeps the constant-velocity prediction there (solution remapping).
+  bool remap_degenerate_directions = true;
+  int min_correspondences = 30;         // fewer: the scan is not registered
+  double covariance_regularisation = 1e-6;  // relative to trace(H)/6, keeps H invertible
+};
+
+constexpr bool ClassWise(RegistrationMode m) {
+  return m == RegistrationMode::kFull || m == RegistrationMode::kClassesNoDegeneracy;
+}
+constexpr bool UsesDegeneracyWeights(RegistrationMode m) { return m == RegistrationMode::kFull; }
+
+}  // namespace dammloam

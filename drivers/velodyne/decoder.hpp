@@ -1,0 +1,63 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/geometry/scan.hpp"
+#include "drivers/diagnostics.hpp"
+#include "drivers/velodyne/calibration.hpp"
+
+namespace dammloam::drivers::velodyne {
+
+inline constexpr std::size_t kPacketSize = 1206;
+
+struct DecoderConfig {
+  Model model = Model::kVLP16;
+  double rpm = 600.0;             // nominal spin rate: scan period = 60 / rpm
+  double min_range = 0.3;         // metres; closer returns are dropped
+  double max_range = 300.0;
+  double scan_phase_deg = 0.0;    // scans are cut when the azimuth crosses this angle
+  bool dual_both_returns = true;  // dual mode: keep the second return when it differs
+  // The first scan of a stream is complete only if it starts this close after the phase.
+  double start_tolerance_deg = 5.0;
+};
+
+// Decodes 1206-byte data packets into scans cut at the scan phase. Only scans that began at a
+// phase crossing and ended at the next one are returned; partial scans (stream start/end) are
+// counted and dropped.
+class Decoder {
+ public:
+  // Throws DriverError when the calibration does not fit the model.
+  Decoder(DecoderConfig config, Calibration calibration);
+
+  // Feeds one UDP payload with its capture time (s). Returns a scan when this packet closed one.
+  std::optional<Scan> Push(std::span<const std::uint8_t> packet, double capture_time);
+  // End of input: the scan in progress is partial; it is counted and dropped.
+  void Flush();
+
+  SensorModel sensor_model() const;
+  const Diagnostics& diagnostics() const { return diag_; }
+
+ private:
+  std::optional<Scan> FinishScan();
+  double PacketTime(std::uint32_t usec_past_hour, double capture_time);
+  // Appends one data block's returns; `pair_first` is the first block of a dual-return pair.
+  void AddBlock(const std::uint8_t* block, int slot, int bank, double gap_centideg, double packet_time,
+                const std::uint8_t* pair_first);
+
+  DecoderConfig config_;
+  Calibration cal_;
+  double unit_m_ = 0.002;
+  Diagnostics diag_;
+
+  Scan scan_;  // in progress; times hold absolute seconds until FinishScan
+  std::vector<double> abs_times_;
+  bool scan_started_at_phase_ = false;
+  std::optional<int> prev_rel_;      // azimuth of the last block, relative to the phase
+  double last_gap_ = 0.0;            // centidegrees between consecutive firings
+  std::optional<double> last_packet_time_;
+  std::uint32_t last_usec_ = 0;
+};
+
+}  // namespace dammloam::drivers::velodyne

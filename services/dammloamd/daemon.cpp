@@ -1,0 +1,376 @@
+#include "services/dammloamd/daemon.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <condition_variable>
+#include <tuple>
+
+#include "core/odometry/unclassified_scan.hpp"
+#include "services/dds/messages.hpp"
+#include "services/dds/point_cloud.hpp"
+#include "services/dds/topics.hpp"
+
+#ifdef DAMMLOAM_HAVE_BACKEND
+#include "core/backend/loop_closing_backend.hpp"
+#endif
+
+namespace dammloam::daemon {
+namespace {
+
+constexpr auto kWakeUp = std::chrono::milliseconds(100);
+constexpr std::size_t kNeverDrop = ~std::size_t{0};
+
+double MillisecondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string StampText(const dammloam_msg_Time& t) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%d.%09u", t.sec, t.nanosec);
+  return text;
+}
+
+bool Later(const dammloam_msg_Time& a, const dammloam_msg_Time& b) {
+  return std::tie(a.sec, a.nanosec) > std::tie(b.sec, b.nanosec);
+}
+
+dds::CloudLimits InputLimits(const DaemonConfig& config) {
+  dds::CloudLimits limits = config.limits;
+  limits.max_ring = config.sensor.rings;
+  return limits;
+}
+
+}  // namespace
+
+#ifdef DAMMLOAM_HAVE_BACKEND
+// The loop-closure back-end on its own thread: AddScan() is cheap (called by the publish
+// stage), Process() (retrieval, verification, Ceres) runs here and never blocks odometry.
+class LoopClosureStage {
+ public:
+  LoopClosureStage(const dds::Participant& participant, const DaemonConfig& config)
+      : map_frame_(config.map_frame),
+        topic_(participant, dammloam_msg_LoopClosure_desc, config.topics.loop_closure,
+               dds::LoopClosureQos()),
+        writer_(participant, topic_, dds::LoopClosureQos()) {}
+
+  void Start() { thread_ = std::thread([this] { Loop(); }); }
+  void Stop() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+  void AddScan(const OdometryResult& result) {
+    backend_.AddScan(result);
+    wake_.notify_one();
+  }
+
+ private:
+  void Loop() {
+    std::unique_lock lock(mutex_);
+    while (!stop_) {
+      wake_.wait_for(lock, std::chrono::milliseconds(200));
+      if (stop_) break;
+      lock.unlock();
+      try {
+        for (const auto& event : backend_.Process()) Publish(event);
+      } catch (const std::exception& e) {
+        spdlog::error("loop closure back-end: {}", e.what());
+      }
+      lock.lock();
+    }
+  }
+
+  void Publish(const backend::LoopEvent& e) {
+    dammloam_msg_LoopClosure msg{};
+    msg.header.stamp = dds::ToMsgTime(e.query_stamp);
+    msg.header.frame_id = const_cast<char*>(map_frame_.c_str());
+    msg.header.seq = seq_++;
+    msg.query_keyframe = e.query_keyframe;
+    msg.match_keyframe = e.candidate_keyframe;
+    msg.query_stamp = dds::ToMsgTime(e.query_stamp);
+    msg.match_stamp = dds::ToMsgTime(e.candidate_stamp);
+    msg.relative_pose = dds::ToMsgPose(e.T_candidate_query);
+    msg.score = e.scan_context_distance;
+    msg.accepted = e.accepted;
+    msg.reason = const_cast<char*>(e.reason.c_str());
+    writer_.Write(msg);
+    spdlog::info("loop candidate keyframes {} -> {}: {} ({})", e.query_keyframe,
+                 e.candidate_keyframe, e.accepted ? "accepted" : "rejected", e.reason);
+  }
+
+  std::string map_frame_;
+  dds::Topic topic_;
+  dds::Writer<dammloam_msg_LoopClosure> writer_;
+  backend::LoopClosingBackend backend_;
+  std::uint64_t seq_ = 0;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+bool Daemon::LoopClosureBuiltIn() { return true; }
+#else
+class LoopClosureStage {
+ public:
+  void Start() {}
+  void Stop() {}
+  void AddScan(const OdometryResult&) {}
+};
+bool Daemon::LoopClosureBuiltIn() { return false; }
+#endif
+
+Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config)
+    : config_(config),
+      odometry_config_(odometry_config),
+      extractor_(odometry_config.preprocess, config.sensor),
+      odometry_(odometry_config, config.sensor),
+      predicted_orientation_(odometry_.PredictedOrientation()),
+      received_(config.queue_capacity, config.max_backlog),
+      featured_(config.queue_capacity, config.max_backlog),
+      registered_(config.queue_capacity, kNeverDrop),  // every registered scan is published
+      participant_(static_cast<dds_domainid_t>(config.domain)),
+      points_topic_(participant_, dammloam_msg_PointCloud_desc, config.topics.points,
+                    dds::PointsQos(config.input_depth)),
+      odometry_topic_(participant_, dammloam_msg_Odometry_desc, config.topics.odometry,
+                      dds::OdometryQos()),
+      labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, config.topics.labelled_cloud,
+                      dds::LabelledCloudQos()),
+      status_topic_(participant_, dammloam_msg_Status_desc, config.topics.status,
+                    dds::StatusQos()),
+      points_reader_(participant_, points_topic_,
+                     {config.input_reliable, config.input_depth, false}),
+      odometry_writer_(participant_, odometry_topic_, dds::OdometryQos()),
+      labelled_writer_(participant_, labelled_topic_, dds::LabelledCloudQos()),
+      status_writer_(participant_, status_topic_, dds::StatusQos()),
+      waitset_(participant_) {
+  waitset_.Attach(points_reader_);
+#ifdef DAMMLOAM_HAVE_BACKEND
+  if (config.loop_closure) loop_closure_ = std::make_unique<LoopClosureStage>(participant_, config);
+#endif
+}
+
+Daemon::~Daemon() { Stop(); }
+
+void Daemon::Start() {
+  PublishStatus(false, dammloam_msg_STATE_WAITING);
+  if (loop_closure_) loop_closure_->Start();
+  threads_.emplace_back([this] { PublishLoop(); });
+  threads_.emplace_back([this] { RegistrationLoop(); });
+  threads_.emplace_back([this] { FeatureLoop(); });
+  threads_.emplace_back([this] { ReceiveLoop(); });
+}
+
+void Daemon::Stop() {
+  if (threads_.empty()) return;
+  stop_ = true;
+  waitset_.Wake();
+  for (auto& thread : threads_) thread.join();
+  threads_.clear();
+  if (loop_closure_) loop_closure_->Stop();
+  PublishStatus(false, dammloam_msg_STATE_STOPPING);
+}
+
+void Daemon::ReceiveLoop() {
+  while (!stop_) {
+    try {
+      waitset_.Wait(kWakeUp);
+      while (!stop_ && points_reader_.TakeEach(
+                           [this](const dammloam_msg_PointCloud& cloud, const dds_sample_info_t&) {
+                             HandleCloud(cloud);
+                           },
+                           4) > 0) {
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("receive stage: {}", e.what());
+    }
+  }
+}
+
+void Daemon::HandleCloud(const dammloam_msg_PointCloud& cloud) {
+  stats_.Received();
+  dds::CloudConversion conversion = dds::CloudToScan(cloud, InputLimits(config_));
+  if (!conversion.scan) return Reject(cloud, conversion.code, conversion.error);
+  if (have_last_stamp_ && !Later(cloud.header.stamp, last_stamp_)) {
+    const bool duplicate = cloud.header.stamp.sec == last_stamp_.sec &&
+                           cloud.header.stamp.nanosec == last_stamp_.nanosec;
+    return Reject(cloud, duplicate ? "duplicate_stamp" : "out_of_order_stamp",
+                  std::string(duplicate ? "duplicate" : "out-of-order") + " stamp: not after " +
+                      "the last accepted stamp " + StampText(last_stamp_));
+  }
+  have_last_stamp_ = true;
+  last_stamp_ = cloud.header.stamp;
+  ReceivedScan item{{cloud.header.stamp, cloud.header.seq,
+                     cloud.header.frame_id != nullptr ? cloud.header.frame_id : "",
+                     std::chrono::steady_clock::now()},
+                    std::move(*conversion.scan)};
+  const ScanMeta meta = item.meta;
+  if (!received_.TryPush(std::move(item))) Drop(meta, "receive_queue_full");
+}
+
+void Daemon::Reject(const dammloam_msg_PointCloud& cloud, const std::string& code,
+                    const std::string& problem) {
+  const std::string message = "rejected PointCloud seq " + std::to_string(cloud.header.seq) +
+                              " stamp " + StampText(cloud.header.stamp) + " [" + code +
+                              "]: " + problem;
+  spdlog::warn("{}", message);
+  stats_.Rejected(code, message);
+  PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+}
+
+void Daemon::Drop(const ScanMeta& meta, const std::string& where) {
+  spdlog::warn("dropped scan seq {} stamp {} ({}): odometry is falling behind", meta.seq,
+               StampText(meta.stamp), where);
+  stats_.Dropped(where);
+}
+
+void Daemon::FeatureLoop() {
+  const auto drop = [this](ReceivedScan&& old) { Drop(old.meta, "backlog_before_features"); };
+  while (!stop_) {
+    std::optional<ReceivedScan> item = received_.Pop(kWakeUp, drop);
+    if (!item) continue;
+    try {
+      Eigen::Matrix3d R_world_sensor;
+      {
+        std::lock_guard lock(prediction_mutex_);
+        R_world_sensor = predicted_orientation_;
+      }
+      // Same branch as OdometryPipeline::Extract: the point-to-point ablation skips features.
+      ClassifiedScan classified =
+          odometry_config_.registration.mode == RegistrationMode::kPointToPoint
+              ? UnclassifiedScan(std::move(item->scan), odometry_config_.preprocess,
+                                 config_.sensor)
+              : extractor_.Extract(std::move(item->scan), R_world_sensor);
+      const ScanMeta meta = item->meta;
+      if (!featured_.TryPush({item->meta, std::move(classified)})) {
+        Drop(meta, "feature_queue_full");
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("feature stage, scan seq {}: {}", item->meta.seq, e.what());
+      stats_.Rejected("internal", std::string("feature stage: ") + e.what());
+    }
+  }
+}
+
+void Daemon::RegistrationLoop() {
+  const auto drop = [this](FeatureScan&& old) { Drop(old.meta, "backlog_before_registration"); };
+  while (!stop_) {
+    std::optional<FeatureScan> item = featured_.Pop(kWakeUp, drop);
+    if (!item) continue;
+    try {
+      OdometryResult result = odometry_.Register(std::move(item->scan));
+      {
+        // Before the result leaves: in lock-step the next scan is sent only after this pose
+        // arrives, so its features see exactly this prediction.
+        std::lock_guard lock(prediction_mutex_);
+        predicted_orientation_ = odometry_.PredictedOrientation();
+      }
+      const ScanMeta meta = item->meta;
+      if (!registered_.TryPush({item->meta, std::move(result)})) Drop(meta, "publish_queue_full");
+    } catch (const std::exception& e) {
+      spdlog::error("registration stage, scan seq {}: {}", item->meta.seq, e.what());
+      stats_.Rejected("internal", std::string("registration stage: ") + e.what());
+    }
+  }
+}
+
+void Daemon::PublishLoop() {
+  auto next_status = std::chrono::steady_clock::now();
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(config_.status_period));
+  while (!stop_) {
+    std::optional<RegisteredScan> item =
+        registered_.Pop(std::chrono::milliseconds(50), [](RegisteredScan&&) {});
+    try {
+      if (item) Publish(*item);
+      if (std::chrono::steady_clock::now() >= next_status) {
+        const auto stats = stats_.Snapshot();
+        PublishStatus(false, stats.processed == 0 ? dammloam_msg_STATE_WAITING
+                                                  : dammloam_msg_STATE_TRACKING);
+        next_status += period;
+        if (next_status < std::chrono::steady_clock::now()) {
+          next_status = std::chrono::steady_clock::now() + period;
+        }
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("publish stage: {}", e.what());
+    }
+  }
+}
+
+void Daemon::Publish(const RegisteredScan& item) {
+  const OdometryResult& r = item.result;
+  const std::string status_name(Name(r.status));
+  dammloam_msg_Odometry odom = dds::ToMsgOdometry(r, config_.map_frame, item.meta.frame_id,
+                                                  status_name);
+  odom.header.stamp = item.meta.stamp;
+  odom.header.seq = published_;
+  odom.input_seq = item.meta.seq;
+  odom.latency_ms = MillisecondsSince(item.meta.received);
+  odometry_writer_.Write(odom);
+  stats_.Processed(odom.latency_ms);
+
+  const int every = config_.labelled_cloud_every;
+  if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0 &&
+      !r.deskewed_points.empty() && r.labels.size() == r.deskewed_points.size()) {
+    dds::LabelledPoints points;
+    points.points_sensor = r.deskewed_points;
+    points.points_map.reserve(r.deskewed_points.size());
+    for (const auto& p : r.deskewed_points) points.points_map.push_back(r.T_world_sensor * p);
+    points.normals = r.normals;
+    points.labels = r.labels;
+    dds::CloudMessage cloud = dds::LabelledToCloud(points, item.meta.frame_id, item.meta.seq);
+    cloud.stamp = item.meta.stamp;
+    const dds::CloudView view(cloud);
+    dammloam_msg_LabelledCloud msg{};
+    msg.header.stamp = item.meta.stamp;
+    msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
+    msg.header.seq = published_;
+    msg.child_frame_id = const_cast<char*>(item.meta.frame_id.c_str());
+    msg.scan_index = r.scan_index;
+    msg.pose = dds::ToMsgPose(r.T_world_sensor);
+    msg.cloud = view.get();
+    labelled_writer_.Write(msg);
+  }
+  ++published_;
+  if (loop_closure_ && Registered(r.status)) loop_closure_->AddScan(r);
+}
+
+void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
+  const StatusSnapshot s = stats_.Snapshot();
+  std::vector<std::string> reasons;
+  std::vector<dammloam_msg_ReasonCount> counts;
+  reasons.reserve(s.by_reason.size());
+  for (const auto& [reason, count] : s.by_reason) {
+    reasons.push_back(reason);
+    counts.push_back({const_cast<char*>(reasons.back().c_str()), count});
+  }
+  dammloam_msg_Status msg{};
+  msg.header.stamp = dds::ToMsgTime(std::chrono::duration<double>(
+      std::chrono::system_clock::now().time_since_epoch()).count());
+  msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
+  msg.node = const_cast<char*>(config_.node_name.c_str());
+  msg.state = error_event ? dammloam_msg_STATE_DEGRADED : state;
+  msg.scans_received = s.received;
+  msg.scans_processed = s.processed;
+  msg.scans_dropped = s.dropped;
+  msg.scans_rejected = s.rejected;
+  msg.rejected_by_reason._buffer = counts.data();
+  msg.rejected_by_reason._length = msg.rejected_by_reason._maximum =
+      static_cast<std::uint32_t>(counts.size());
+  msg.latency_median_ms = s.latency_median_ms;
+  msg.latency_p95_ms = s.latency_p95_ms;
+  msg.latency_p99_ms = s.latency_p99_ms;
+  msg.latency_max_ms = s.latency_max_ms;
+  msg.error_count = s.errors;
+  msg.last_error = const_cast<char*>(s.last_error.c_str());
+  msg.last_error_stamp = dds::ToMsgTime(s.last_error_wall_time);
+  msg.is_error_event = error_event;
+  std::lock_guard lock(status_mutex_);
+  msg.header.seq = status_seq_++;
+  status_writer_.Write(msg);
+}
+
+}  // namespace dammloam::daemon

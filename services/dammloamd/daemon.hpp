@@ -1,0 +1,109 @@
+#pragma once
+// dammloamd's pipeline: four stages on their own threads joined by bounded SPSC queues
+//   receive+validate -q1-> features -q2-> registration + map update -q3-> publish
+// plus an optional loop-closure back-end thread fed by the publish stage (never on the odometry
+// path). The feature stage reads the orientation predicted by the registration stage after the
+// previous scan, so in lock-step it makes exactly the calls OdometryPipeline::Process makes.
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/odometry/odometry.hpp"
+#include "core/odometry/odometry_config.hpp"
+#include "core/preprocess/feature_extractor.hpp"
+#include "services/dammloamd/daemon_config.hpp"
+#include "services/dammloamd/daemon_stats.hpp"
+#include "services/dammloamd/stage_queue.hpp"
+#include "services/dds/dds.hpp"
+
+namespace dammloam::daemon {
+
+// What travels with a scan through the stages.
+struct ScanMeta {
+  dammloam_msg_Time stamp{};
+  std::uint64_t seq = 0;
+  std::string frame_id;
+  std::chrono::steady_clock::time_point received;
+};
+
+struct ReceivedScan {
+  ScanMeta meta;
+  Scan scan;
+};
+struct FeatureScan {
+  ScanMeta meta;
+  ClassifiedScan scan;
+};
+struct RegisteredScan {
+  ScanMeta meta;
+  OdometryResult result;
+};
+
+class LoopClosureStage;  // defined in daemon.cpp when the back-end is built in
+
+class Daemon {
+ public:
+  Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config);
+  ~Daemon();
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
+
+  void Start();
+  // Stops every thread (each waits at most ~100 ms per wake-up) and publishes a final Status.
+  void Stop();
+
+  StatusSnapshot Stats() const { return stats_.Snapshot(); }
+  static bool LoopClosureBuiltIn();
+
+ private:
+  void ReceiveLoop();
+  void FeatureLoop();
+  void RegistrationLoop();
+  void PublishLoop();
+
+  void HandleCloud(const dammloam_msg_PointCloud& cloud);
+  void Reject(const dammloam_msg_PointCloud& cloud, const std::string& code,
+              const std::string& problem);
+  void Drop(const ScanMeta& meta, const std::string& where);
+  void Publish(const RegisteredScan& item);
+  void PublishStatus(bool error_event, std::uint8_t state);
+
+  DaemonConfig config_;
+  OdometryConfig odometry_config_;
+  FeatureExtractor extractor_;
+  Odometry odometry_;
+  DaemonStats stats_;
+
+  // Orientation predicted by the registration stage for the next scan.
+  mutable std::mutex prediction_mutex_;
+  Eigen::Matrix3d predicted_orientation_;
+
+  // Owned by the receive thread.
+  bool have_last_stamp_ = false;
+  dammloam_msg_Time last_stamp_{};
+
+  StageQueue<ReceivedScan> received_;
+  StageQueue<FeatureScan> featured_;
+  StageQueue<RegisteredScan> registered_;
+
+  dds::Participant participant_;
+  dds::Topic points_topic_, odometry_topic_, labelled_topic_, status_topic_;
+  dds::Reader<dammloam_msg_PointCloud> points_reader_;
+  dds::Writer<dammloam_msg_Odometry> odometry_writer_;
+  dds::Writer<dammloam_msg_LabelledCloud> labelled_writer_;
+  dds::Writer<dammloam_msg_Status> status_writer_;
+  dds::WaitSet waitset_;
+  std::mutex status_mutex_;
+  std::uint64_t status_seq_ = 0;
+  std::uint64_t published_ = 0;
+
+  std::unique_ptr<LoopClosureStage> loop_closure_;
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace dammloam::daemon

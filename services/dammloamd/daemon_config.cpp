@@ -1,0 +1,156 @@
+#include "services/dammloamd/daemon_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <stdexcept>
+
+#if __has_include("tools/common/config_yaml.hpp")
+#include "tools/common/config_yaml.hpp"
+#define DAMMLOAMD_HAVE_ODOMETRY_YAML 1
+#endif
+
+namespace dammloam::daemon {
+namespace {
+
+[[noreturn]] void Fail(const std::string& key, const std::string& what) {
+  throw std::runtime_error("dammloamd config: '" + key + "' " + what);
+}
+
+void RejectUnknownKeys(const YAML::Node& node, const std::string& path,
+                       const std::set<std::string>& known) {
+  if (!node) return;
+  if (!node.IsMap()) Fail(path, "must be a map");
+  for (const auto& item : node) {
+    const auto key = item.first.as<std::string>();
+    if (!known.count(key)) Fail(path + "." + key, "is not a known key");
+  }
+}
+
+template <typename T>
+void Read(const YAML::Node& node, const std::string& key, const std::string& path, T& value) {
+  if (!node || !node[key]) return;
+  try {
+    value = node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    Fail(path + "." + key, "has the wrong type");
+  }
+}
+
+void ReadSensor(const YAML::Node& node, DaemonConfig& c) {
+  const std::string path = "dammloamd.sensor";
+  RejectUnknownKeys(node, path, {"name", "rings", "columns", "scan_period", "vertical_angles_deg",
+                                 "min_range", "max_range", "meta"});
+  Read(node, "name", path, c.sensor_name);
+  Read(node, "rings", path, c.sensor.rings);
+  Read(node, "columns", path, c.sensor.columns);
+  Read(node, "scan_period", path, c.sensor.scan_period);
+  Read(node, "vertical_angles_deg", path, c.sensor.vertical_angles_deg);
+  Read(node, "min_range", path, c.sensor.min_range);
+  Read(node, "max_range", path, c.sensor.max_range);
+  std::string meta;
+  Read(node, "meta", path, meta);
+  if (!meta.empty()) c.sensor_meta = meta;
+}
+
+void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
+  const std::string path = "dammloamd.topics";
+  RejectUnknownKeys(node, path, {"points", "odometry", "labelled_cloud", "loop_closure", "status",
+                                 "command"});
+  Read(node, "points", path, t.points);
+  Read(node, "odometry", path, t.odometry);
+  Read(node, "labelled_cloud", path, t.labelled_cloud);
+  Read(node, "loop_closure", path, t.loop_closure);
+  Read(node, "status", path, t.status);
+  Read(node, "command", path, t.command);
+}
+
+DaemonConfig ParseDaemon(const YAML::Node& node) {
+  DaemonConfig c;
+  const std::string path = "dammloamd";
+  RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
+                                 "queues", "publish", "loop_closure"});
+  if (!node) return c;
+  Read(node, "domain", path, c.domain);
+  Read(node, "node_name", path, c.node_name);
+  Read(node, "map_frame", path, c.map_frame);
+  Read(node, "loop_closure", path, c.loop_closure);
+  ReadSensor(node["sensor"], c);
+  ReadTopics(node["topics"], c.topics);
+
+  const YAML::Node input = node["input"];
+  RejectUnknownKeys(input, "dammloamd.input",
+                    {"reliable", "depth", "max_cloud_bytes", "max_points", "max_point_time"});
+  Read(input, "reliable", "dammloamd.input", c.input_reliable);
+  Read(input, "depth", "dammloamd.input", c.input_depth);
+  Read(input, "max_cloud_bytes", "dammloamd.input", c.limits.max_bytes);
+  Read(input, "max_points", "dammloamd.input", c.limits.max_points);
+  Read(input, "max_point_time", "dammloamd.input", c.limits.max_point_time);
+
+  const YAML::Node queues = node["queues"];
+  RejectUnknownKeys(queues, "dammloamd.queues", {"capacity", "max_backlog"});
+  Read(queues, "capacity", "dammloamd.queues", c.queue_capacity);
+  Read(queues, "max_backlog", "dammloamd.queues", c.max_backlog);
+
+  const YAML::Node publish = node["publish"];
+  RejectUnknownKeys(publish, "dammloamd.publish", {"labelled_cloud_every", "status_period"});
+  Read(publish, "labelled_cloud_every", "dammloamd.publish", c.labelled_cloud_every);
+  Read(publish, "status_period", "dammloamd.publish", c.status_period);
+  return c;
+}
+
+}  // namespace
+
+FullConfig LoadConfig(const std::filesystem::path& file) {
+  FullConfig config;
+  if (file.empty()) return config;
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("cannot read config " + file.string() + ": " + e.what());
+  }
+  try {
+    if (root && !root.IsMap()) Fail("<root>", "must be a map with sections dammloamd, odometry");
+    RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry"});
+    config.daemon = ParseDaemon(root["dammloamd"]);
+#ifdef DAMMLOAMD_HAVE_ODOMETRY_YAML
+    if (root["odometry"]) config.odometry = ParseOdometryConfig(root["odometry"]);
+#else
+    if (root["odometry"]) Fail("odometry", "cannot be parsed: this build lacks config_yaml");
+#endif
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+  return config;
+}
+
+void ValidateDaemonConfig(const DaemonConfig& c) {
+  if (c.domain > 232) Fail("dammloamd.domain", "must be in [0, 232]");
+  if (c.sensor.rings < 1 || c.sensor.rings > 1024) Fail("dammloamd.sensor.rings", "must be in [1, 1024]");
+  if (c.sensor.columns < 1) Fail("dammloamd.sensor.columns", "must be positive");
+  if (!(c.sensor.scan_period > 0.0)) Fail("dammloamd.sensor.scan_period", "must be positive");
+  if (!c.sensor.vertical_angles_deg.empty() &&
+      static_cast<int>(c.sensor.vertical_angles_deg.size()) != c.sensor.rings) {
+    Fail("dammloamd.sensor.vertical_angles_deg", "must be empty or have `rings` values");
+  }
+  if (!(c.sensor.min_range >= 0.0 && c.sensor.max_range > c.sensor.min_range)) {
+    Fail("dammloamd.sensor.min_range/max_range", "must satisfy 0 <= min_range < max_range");
+  }
+  if (c.input_depth < 1) Fail("dammloamd.input.depth", "must be at least 1");
+  if (c.limits.max_bytes < 1024) Fail("dammloamd.input.max_cloud_bytes", "must be at least 1024");
+  if (c.limits.max_points < 1) Fail("dammloamd.input.max_points", "must be at least 1");
+  if (!(c.limits.max_point_time > 0.0)) Fail("dammloamd.input.max_point_time", "must be positive");
+  if (c.max_backlog < 1) Fail("dammloamd.queues.max_backlog", "must be at least 1");
+  if (c.queue_capacity < c.max_backlog + 2) {
+    Fail("dammloamd.queues.capacity", "must be at least max_backlog + 2");
+  }
+  if (c.labelled_cloud_every < 0) Fail("dammloamd.publish.labelled_cloud_every", "must be >= 0");
+  if (!(c.status_period > 0.0)) Fail("dammloamd.publish.status_period", "must be positive");
+  for (const std::string* topic : {&c.topics.points, &c.topics.odometry, &c.topics.labelled_cloud,
+                                   &c.topics.loop_closure, &c.topics.status, &c.topics.command}) {
+    if (topic->empty()) Fail("dammloamd.topics", "names must not be empty");
+  }
+}
+
+}  // namespace dammloam::daemon

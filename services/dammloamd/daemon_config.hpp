@@ -1,0 +1,46 @@
+#pragma once
+// dammloamd configuration: the `dammloamd` section of the YAML file (this struct) and the
+// `odometry` section (OdometryConfig, parsed by tools/common/config_yaml).
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "core/geometry/scan.hpp"
+#include "core/odometry/odometry_config.hpp"
+#include "services/dds/point_cloud.hpp"
+#include "services/dds/topics.hpp"
+
+namespace dammloam::daemon {
+
+struct DaemonConfig {
+  std::uint32_t domain = 0;
+  std::string node_name = "dammloamd";
+  std::string map_frame = "map";
+  std::string sensor_name = "os1-64";
+  SensorModel sensor;                   // or loaded from sensor_meta (a sequence meta.json)
+  std::filesystem::path sensor_meta;
+  dds::TopicNames topics;
+  int input_depth = 4;                  // DDS reader history of the points topic
+  bool input_reliable = true;
+  dds::CloudLimits limits;              // max_ring follows sensor.rings
+  std::size_t queue_capacity = 8;       // each stage queue
+  std::size_t max_backlog = 1;          // scans allowed to wait behind the one in work
+  int labelled_cloud_every = 1;         // publish every Nth LabelledCloud; 0 = never
+  double status_period = 1.0;           // seconds
+  bool loop_closure = true;             // only if the back-end library was built in
+};
+
+struct FullConfig {
+  DaemonConfig daemon;
+  OdometryConfig odometry;
+};
+
+// Reads the YAML file (both sections optional; unknown keys and wrong types are errors naming the
+// key). Throws std::runtime_error naming the file and key. An empty path gives the defaults.
+FullConfig LoadConfig(const std::filesystem::path& file);
+
+// Throws std::runtime_error naming the field when a value is out of range.
+void ValidateDaemonConfig(const DaemonConfig& config);
+
+}  // namespace dammloam::daemon

@@ -1,0 +1,59 @@
+#include "services/dammloamd/daemon_stats.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace dammloam::daemon {
+namespace {
+
+double Percentile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const auto index = static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5);
+  return sorted[std::min(index, sorted.size() - 1)];
+}
+
+}  // namespace
+
+void DaemonStats::Received() {
+  std::lock_guard lock(mutex_);
+  ++counters_.received;
+}
+
+void DaemonStats::Processed(double latency_ms) {
+  std::lock_guard lock(mutex_);
+  ++counters_.processed;
+  latencies_ms_.push_back(latency_ms);
+  if (latencies_ms_.size() > kLatencyWindow) latencies_ms_.pop_front();
+}
+
+void DaemonStats::Dropped(const std::string& where) {
+  std::lock_guard lock(mutex_);
+  ++counters_.dropped;
+  ++counters_.by_reason["dropped:" + where];
+}
+
+void DaemonStats::Rejected(const std::string& code, const std::string& message) {
+  const double now = std::chrono::duration<double>(
+                         std::chrono::system_clock::now().time_since_epoch()).count();
+  std::lock_guard lock(mutex_);
+  ++counters_.rejected;
+  ++counters_.errors;
+  ++counters_.by_reason["rejected:" + code];
+  counters_.last_error = message;
+  counters_.last_error_wall_time = now;
+}
+
+StatusSnapshot DaemonStats::Snapshot() const {
+  std::lock_guard lock(mutex_);
+  StatusSnapshot s = counters_;
+  std::vector<double> sorted(latencies_ms_.begin(), latencies_ms_.end());
+  std::sort(sorted.begin(), sorted.end());
+  s.latency_median_ms = Percentile(sorted, 0.5);
+  s.latency_p95_ms = Percentile(sorted, 0.95);
+  s.latency_p99_ms = Percentile(sorted, 0.99);
+  s.latency_max_ms = sorted.empty() ? 0.0 : sorted.back();
+  return s;
+}
+
+}  // namespace dammloam::daemon

@@ -1,0 +1,114 @@
+// dammloamd: subscribes to PointCloud, publishes Odometry, LabelledCloud, Status (and
+// LoopClosure when the back-end is built in) over Cyclone DDS.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <optional>
+
+#include "services/dammloamd/daemon.hpp"
+#include "services/dds/network_guard.hpp"
+#include "tools/common/io_error.hpp"
+#include "tools/common/sequence_meta.hpp"
+
+namespace {
+
+struct Options {
+  std::string config_file;
+  std::optional<std::uint32_t> domain;
+  std::string sensor_meta;
+  std::string points_topic;
+  std::optional<int> labelled_cloud_every;
+  bool no_loop_closure = false;
+  bool allow_default_network = false;
+  bool check_config = false;
+  std::string log_level = "info";
+};
+
+dammloam::daemon::FullConfig BuildConfig(const Options& o) {
+  using namespace dammloam;
+  daemon::FullConfig config = daemon::LoadConfig(o.config_file);
+  daemon::DaemonConfig& d = config.daemon;
+  if (o.domain) d.domain = *o.domain;
+  if (!o.sensor_meta.empty()) d.sensor_meta = o.sensor_meta;
+  if (!o.points_topic.empty()) d.topics.points = o.points_topic;
+  if (o.labelled_cloud_every) d.labelled_cloud_every = *o.labelled_cloud_every;
+  if (o.no_loop_closure) d.loop_closure = false;
+  if (!d.sensor_meta.empty()) {
+    const io::SequenceMeta meta = io::ReadMeta(d.sensor_meta);
+    d.sensor = meta.model;
+    d.sensor_name = meta.sensor;
+  }
+  daemon::ValidateDaemonConfig(d);
+  return config;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"dammloamd: DAMM-LOAM LiDAR odometry daemon over Cyclone DDS"};
+  app.add_option("--config", o.config_file, "YAML config (sections dammloamd, odometry)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--domain", o.domain, "DDS domain id (overrides dammloamd.domain)");
+  app.add_option("--sensor-meta", o.sensor_meta, "sensor from a sequence meta.json")
+      ->check(CLI::ExistingFile);
+  app.add_option("--points-topic", o.points_topic, "input PointCloud topic");
+  app.add_option("--labelled-cloud-every", o.labelled_cloud_every,
+                 "publish every Nth LabelledCloud (0 = never)");
+  app.add_flag("--no-loop-closure", o.no_loop_closure, "do not run the loop-closure back-end");
+  app.add_flag("--allow-default-network", o.allow_default_network,
+               "run without CYCLONEDDS_URI (uses the default network interface)");
+  app.add_flag("--check-config", o.check_config, "validate the configuration and exit");
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(spdlog::level::from_str(o.log_level));
+
+  dammloam::daemon::FullConfig config;
+  try {
+    config = BuildConfig(o);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  if (o.check_config) {
+    spdlog::info("configuration OK");
+    return 0;
+  }
+  if (const std::string problem = dammloam::dds::NetworkConfigProblem(o.allow_default_network);
+      !problem.empty()) {
+    spdlog::error("{}", problem);
+    return 2;
+  }
+
+  // Block the stop signals in every thread (Cyclone's included); main waits for them below.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  try {
+    const auto& d = config.daemon;
+    dammloam::daemon::Daemon daemon(d, config.odometry);
+    daemon.Start();
+    spdlog::info("dammloamd on domain {}: {} -> {}, {}, {}; sensor {} ({}x{}); loop closure {}",
+                 d.domain, d.topics.points, d.topics.odometry, d.topics.labelled_cloud,
+                 d.topics.status, d.sensor_name, d.sensor.rings, d.sensor.columns,
+                 d.loop_closure && dammloam::daemon::Daemon::LoopClosureBuiltIn() ? "on" : "off");
+    int signal_number = 0;
+    sigwait(&stop_signals, &signal_number);
+    spdlog::info("signal {} received, stopping", signal_number);
+    daemon.Stop();
+    const auto s = daemon.Stats();
+    spdlog::info("stopped: {} received, {} processed, {} dropped, {} rejected", s.received,
+                 s.processed, s.dropped, s.rejected);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    spdlog::shutdown();
+    return 1;
+  }
+  spdlog::shutdown();
+  return 0;
+}

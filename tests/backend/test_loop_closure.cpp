@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <thread>
+
+#include "core/backend/loop_closing_backend.hpp"
+#include "tests/backend/sim_run.hpp"
+
+namespace dammloam::backend {
+namespace {
+
+using test::DriftModel;
+using test::MakeSimRun;
+using test::PositionRmse;
+using test::SimRun;
+
+struct Outcome {
+  std::vector<LoopEvent> events;
+  std::vector<Eigen::Isometry3d> corrected;
+};
+
+// Feeds the run from this thread while a second thread calls Process(), as the daemon does.
+Outcome RunBackendThreaded(LoopClosingBackend& backend, const SimRun& run) {
+  Outcome outcome;
+  std::atomic<bool> done{false};
+  std::thread worker([&] {
+    while (true) {
+      const bool finished = done.load();
+      for (auto& e : backend.Process()) outcome.events.push_back(std::move(e));
+      if (finished) break;
+      std::this_thread::yield();
+    }
+  });
+  for (const OdometryResult& r : run.odometry) backend.AddScan(r);
+  done = true;
+  worker.join();
+  for (const OdometryResult& r : run.odometry) {
+    const auto pose = backend.CorrectedPoseOf(r.scan_index);
+    EXPECT_TRUE(pose.has_value());
+    outcome.corrected.push_back(pose.value_or(Eigen::Isometry3d::Identity()));
+  }
+  return outcome;
+}
+
+std::size_t CountAccepted(const std::vector<LoopEvent>& events) {
+  std::size_t n = 0;
+  for (const auto& e : events) n += e.accepted ? 1 : 0;
+  return n;
+}
+
+TEST(LoopClosure, OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops) {
+  const sim::Simulator simulator(sim::SceneKind::Outdoor, test::TestSensor());
+  // ~1.05 m between scans, 1.2 laps of the ~130 m loop.
+  const int stride = 7;
+  const SimRun run = MakeSimRun(simulator, 150, stride, DriftModel{0.0015, 0.02});
+  LoopClosingBackend backend;
+  const Outcome outcome = RunBackendThreaded(backend, run);
+
+  std::vector<Eigen::Isometry3d> odometry;
+  for (const auto& r : run.odometry) odometry.push_back(r.T_world_sensor);
+  const double before = PositionRmse(odometry, run.truth);
+  const double after = PositionRmse(outcome.corrected, run.truth);
+  const std::size_t accepted = CountAccepted(outcome.events);
+  std::printf("outdoor loop: %zu keyframes, %zu candidates, %zu accepted; APE RMSE odometry %.3f m,"
+              " with loop closure %.3f m\n",
+              backend.NumKeyframes(), outcome.events.size(), accepted, before, after);
+  ASSERT_GE(accepted, 1u);
+  for (const LoopEvent& e : outcome.events) {
+    if (!e.accepted) continue;
+    const auto truth_of = [&](std::uint64_t scan_index) {
+      return run.truth[static_cast<std::size_t>(scan_index / stride)];
+    };
+    const Eigen::Isometry3d T_true =
+        truth_of(e.candidate_scan_index).inverse() * truth_of(e.query_scan_index);
+    EXPECT_LT((T_true.translation() - e.T_candidate_query.translation()).norm(), 0.3)
+        << e.query_keyframe << " -> " << e.candidate_keyframe;
+  }
+  EXPECT_LT(after * 2.0, before);
+  EXPECT_EQ(backend.CorrectedTrajectory().size(), run.odometry.size());
+  const MapData map = backend.ExportMap();
+  EXPECT_EQ(map.keyframes.size(), backend.NumKeyframes());
+  EXPECT_GT(map.global_points.size(), 1000u);
+}
+
+TEST(LoopClosure, RepetitiveCorridorGivesNoAcceptedFalseLoop) {
+  const sim::Simulator simulator(sim::SceneKind::Repetitive, test::TestSensor());
+  const SimRun run = MakeSimRun(simulator, 60, 10, DriftModel{0.001, 0.01});
+  BackendConfig config;
+  config.scan_context.max_range = 30.0;  // indoor
+  config.scan_context.sensor_height = 1.2;
+  config.database.max_distance = 0.4;   // let look-alikes through to verification
+  LoopClosingBackend backend(config);
+  const Outcome outcome = RunBackendThreaded(backend, run);
+  std::printf("repetitive corridor: %zu keyframes, %zu candidates examined, %zu accepted\n",
+              backend.NumKeyframes(), outcome.events.size(), CountAccepted(outcome.events));
+  for (const LoopEvent& e : outcome.events) {
+    EXPECT_FALSE(e.accepted) << e.query_keyframe << " -> " << e.candidate_keyframe;
+    EXPECT_FALSE(e.reason.empty());
+  }
+}
+
+TEST(LoopClosure, UnknownScanHasNoCorrectedPose) {
+  LoopClosingBackend backend;
+  EXPECT_FALSE(backend.CorrectedPoseOf(7).has_value());
+  EXPECT_TRUE(backend.Process().empty());
+  OdometryResult empty_cloud;
+  backend.AddScan(empty_cloud);  // a keyframe with no points must not break anything
+  EXPECT_TRUE(backend.Process().empty());
+  EXPECT_TRUE(backend.CorrectedPoseOf(0).has_value());
+}
+
+}  // namespace
+}  // namespace dammloam::backend

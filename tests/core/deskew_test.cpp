@@ -1,0 +1,91 @@
+#include "core/preprocess/deskew.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/geometry/se3.hpp"
+
+namespace dammloam {
+namespace {
+
+constexpr double kPeriod = 0.1;
+
+struct MovingScan {
+  ClassifiedScan scan;
+  std::vector<Eigen::Vector3d> start_points;  // ground truth in the scan-start frame
+  std::vector<Eigen::Vector3f> start_normals;
+};
+
+// A static scene of random points (given in the scan-start frame) sampled by a sensor moving at
+// constant velocity: a point fired at time t is seen from pose ScaleMotion(T_start_end, t/T).
+MovingScan SampleWhileMoving(const Eigen::Isometry3d& T_start_end, bool with_times) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coord(-20.0, 20.0);
+  MovingScan out;
+  const int n = 5000;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d q(coord(rng), coord(rng), coord(rng) * 0.2);
+    const Eigen::Vector3f normal = Eigen::Vector3f(float(coord(rng)), float(coord(rng)), 5.0f).normalized();
+    // Firing times in blocks of 16 (one column of a 16-beam sensor shares a time).
+    const float t = static_cast<float>((i / 16) * 16) / n * static_cast<float>(kPeriod);
+    const Eigen::Isometry3d T_start_t = ScaleMotion(T_start_end, t / kPeriod);
+    out.start_points.push_back(q);
+    out.start_normals.push_back(normal);
+    out.scan.scan.points.push_back(T_start_t.inverse() * q);
+    out.scan.normals.push_back((T_start_t.linear().transpose() * normal.cast<double>()).cast<float>());
+    if (with_times) out.scan.scan.times.push_back(t);
+  }
+  out.scan.labels.assign(n, PointClass::Wall);
+  return out;
+}
+
+Eigen::Isometry3d Motion() {
+  Vector6d xi;
+  xi << 1.2, -0.3, 0.05, 0.01, -0.02, 0.15;  // 12 m/s forward, 1.5 rad/s yaw
+  return ExpSE3(xi);
+}
+
+TEST(Deskew, RestoresTheStartFrameGivenTheTrueMotion) {
+  MovingScan moving = SampleWhileMoving(Motion(), true);
+  // Without compensation the points are off by up to the scan's motion.
+  double worst_before = 0.0;
+  for (std::size_t i = 0; i < moving.start_points.size(); ++i) {
+    worst_before = std::max(worst_before, (moving.scan.scan.points[i] - moving.start_points[i]).norm());
+  }
+  EXPECT_GT(worst_before, 0.5);
+  DeskewScan(moving.scan, Motion(), kPeriod);
+  for (std::size_t i = 0; i < moving.start_points.size(); ++i) {
+    ASSERT_LT((moving.scan.scan.points[i] - moving.start_points[i]).norm(), 1e-9) << "point " << i;
+    ASSERT_LT((moving.scan.normals[i] - moving.start_normals[i]).norm(), 1e-6) << "normal " << i;
+  }
+}
+
+TEST(Deskew, WrongMotionDoesNotRestore) {
+  MovingScan moving = SampleWhileMoving(Motion(), true);
+  DeskewScan(moving.scan, Eigen::Isometry3d::Identity(), kPeriod);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < moving.start_points.size(); ++i) {
+    worst = std::max(worst, (moving.scan.scan.points[i] - moving.start_points[i]).norm());
+  }
+  EXPECT_GT(worst, 0.5);
+}
+
+TEST(Deskew, ScansWithoutTimesAreUnchanged) {
+  MovingScan moving = SampleWhileMoving(Motion(), false);
+  const std::vector<Eigen::Vector3d> before = moving.scan.scan.points;
+  const std::vector<Eigen::Vector3f> normals_before = moving.scan.normals;
+  DeskewScan(moving.scan, Motion(), kPeriod);
+  EXPECT_EQ(moving.scan.scan.points, before);
+  EXPECT_EQ(moving.scan.normals, normals_before);
+}
+
+TEST(Deskew, NonPositivePeriodIsIgnored) {
+  MovingScan moving = SampleWhileMoving(Motion(), true);
+  const std::vector<Eigen::Vector3d> before = moving.scan.scan.points;
+  DeskewScan(moving.scan, Motion(), 0.0);
+  EXPECT_EQ(moving.scan.scan.points, before);
+}
+
+}  // namespace
+}  // namespace dammloam

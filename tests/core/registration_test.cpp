@@ -1,0 +1,177 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/geometry/se3.hpp"
+#include "core/map/voxel_hash_map.hpp"
+#include "core/registration/adaptive_threshold.hpp"
+#include "core/registration/correspondences.hpp"
+#include "core/registration/degeneracy_weights.hpp"
+#include "core/registration/registration.hpp"
+#include "synthetic_scenes.hpp"
+
+namespace dammloam {
+namespace {
+
+VoxelHashMap MapOf(const test::LabelledCloud& cloud, double voxel = 0.5) {
+  VoxelHashMap map(voxel, 1000.0, 50);
+  map.Update(cloud.points, cloud.labels, cloud.normals, Eigen::Isometry3d::Identity());
+  return map;
+}
+
+Correspondence WithNormal(const Eigen::Vector3d& n) {
+  return {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), n};
+}
+
+double AngleToX(const Eigen::Vector3d& v) {
+  return std::acos(std::min(1.0, std::abs(v.normalized().x()))) * 180.0 / M_PI;
+}
+
+TEST(DegeneracyWeights, CorridorWeakestDirectionIsX) {
+  std::vector<Correspondence> planar;
+  for (const auto& n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1),
+                        Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, -1, 0)}) {
+    for (int i = 0; i < 100; ++i) planar.push_back(WithNormal(n));
+  }
+  // A little slanted clutter so x is weak, not exactly zero.
+  planar.push_back(WithNormal(Eigen::Vector3d(0.1, 0.0, 1.0).normalized()));
+  const DegeneracyReport report = AnalyseTranslation(PlanarTranslationHessian(planar), 0.02);
+  EXPECT_LT(AngleToX(report.eigenvectors.col(0)), 2.0);
+  EXPECT_TRUE(report.degenerate[0]);
+  EXPECT_FALSE(report.degenerate[1]);
+  EXPECT_FALSE(report.degenerate[2]);
+  EXPECT_LE(report.eigenvalues[0], report.eigenvalues[1]);
+  EXPECT_LE(report.eigenvalues[1], report.eigenvalues[2]);
+
+  // Paper eqs. C_t, w_t: a floor normal counts in a well-observed direction (weight = its
+  // normalised eigenvalue); a normal along the degenerate axis weighs almost nothing.
+  const std::vector<Correspondence> probes{WithNormal(Eigen::Vector3d(0, 0, 1)),
+                                           WithNormal(Eigen::Vector3d(1, 0, 0))};
+  const std::vector<double> w = DegeneracyWeights(probes, report);
+  const double lambda_z = report.eigenvalues.maxCoeff();
+  EXPECT_NEAR(w[0], 1.0, 1e-3 + 0.01 * (1.0 - report.eigenvalues[1] / lambda_z) + 0.01);
+  EXPECT_LT(w[1], 0.01);
+  for (double wi : w) {
+    EXPECT_GE(wi, 0.0);
+    EXPECT_LE(wi, 1.0 + 1e-12);
+  }
+}
+
+TEST(DegeneracyWeights, ClosedRoomIsNotDegenerate) {
+  const auto room = test::BoxRoom(-3, 3, -2, 2, -1, 1.5, true, 0.25);
+  std::vector<Correspondence> planar;
+  for (const auto& n : room.normals) planar.push_back(WithNormal(n.cast<double>()));
+  const DegeneracyReport report = AnalyseTranslation(PlanarTranslationHessian(planar), 0.02);
+  EXPECT_FALSE(report.degenerate[0] || report.degenerate[1] || report.degenerate[2]);
+}
+
+TEST(Correspondences, ClassWiseMatchesOnlyTheSameClass) {
+  test::LabelledCloud map_cloud;
+  map_cloud.Add({0.0, 0.0, 0.0}, PointClass::Ground, {0, 0, 1});
+  map_cloud.Add({0.3, 0.0, 0.0}, PointClass::Edge, {0, 0, 0});
+  const VoxelHashMap map = MapOf(map_cloud);
+  const std::vector<Eigen::Vector3d> source{{0.0, 0.0, 0.05}, {0.05, 0.0, 0.0}};
+  const std::vector<PointClass> labels{PointClass::Edge, PointClass::Ground};
+
+  const CorrespondenceSet full = FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull);
+  ASSERT_EQ(full.planar.size(), 1u);  // ground source -> ground map point, point-to-plane
+  ASSERT_EQ(full.point.size(), 1u);   // edge source -> edge map point, point-to-point
+  EXPECT_DOUBLE_EQ(full.planar[0].target.x(), 0.0);
+  EXPECT_DOUBLE_EQ(full.point[0].target.x(), 0.3);
+
+  const CorrespondenceSet p2p =
+      FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kPointToPoint);
+  ASSERT_EQ(p2p.point.size(), 2u);
+  EXPECT_DOUBLE_EQ(p2p.point[0].target.x(), 0.0);  // nearest of any class
+  EXPECT_TRUE(FindCorrespondences(source, labels, map, 0.01, RegistrationMode::kFull).size() == 0);
+}
+
+// The Jacobian order [t; r] pinned on the real registration: in a corridor along x, the
+// weakest translational eigen-direction of the Hessian must be +-x and flagged degenerate.
+TEST(Registration, CorridorDegenerateAxisIsX) {
+  const auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
+  const VoxelHashMap map = MapOf(corridor);
+  const Eigen::Isometry3d T_true = test::MakePose(0.5, 0.1, 0.05, 0.0, 0.0, 0.02);
+  const auto source = corridor.Transformed(T_true.inverse());
+  RegistrationConfig config;
+  const RegistrationResult r = RegisterScan(source.points, source.labels, map,
+                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, config);
+  ASSERT_TRUE(r.enough_correspondences);
+  EXPECT_LT(AngleToX(r.degeneracy.eigenvectors.col(0)), 3.0);
+  EXPECT_TRUE(r.degeneracy.degenerate[0]);
+  EXPECT_FALSE(r.degeneracy.degenerate[2]);
+  // Observable directions are recovered; along x the prediction (identity) is kept.
+  const Eigen::Isometry3d T = r.T_world_sensor;
+  EXPECT_NEAR(T.translation().y(), 0.1, 1e-3);
+  EXPECT_NEAR(T.translation().z(), 0.05, 1e-3);
+  EXPECT_NEAR(T.translation().x(), 0.0, 1e-3);
+  EXPECT_NEAR(LogSO3(T.linear()).z(), 0.02, 1e-3);
+  // The covariance says x is the uncertain direction.
+  EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
+}
+
+class KnownMotion : public ::testing::TestWithParam<RegistrationMode> {};
+
+TEST_P(KnownMotion, RecoversRigidMotionInAClosedRoom) {
+  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
+  const VoxelHashMap map = MapOf(room);
+  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
+  // Source sampled on a shifted grid: no source point coincides with a map point.
+  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
+                          .Transformed(T_true.inverse());
+  RegistrationConfig config;
+  config.mode = GetParam();
+  const RegistrationResult r = RegisterScan(source.points, source.labels, map,
+                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, config);
+  const Vector6d error = LogSE3(T_true.inverse() * r.T_world_sensor);
+  const double tol = GetParam() == RegistrationMode::kPointToPoint ? 0.05 : 2e-3;
+  EXPECT_LT(error.head<3>().norm(), tol) << Name(GetParam());
+  EXPECT_LT(error.tail<3>().norm(), tol) << Name(GetParam());
+  EXPECT_TRUE(r.converged) << Name(GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, KnownMotion,
+                         ::testing::Values(RegistrationMode::kFull, RegistrationMode::kPlaneOnly,
+                                           RegistrationMode::kClassesNoDegeneracy,
+                                           RegistrationMode::kPointToPoint));
+
+TEST(Registration, AlphaIsThePlanarShare) {
+  auto room = test::BoxRoom(-4, 4, -3, 3, -1.5, 2.0, true, 0.25);
+  for (std::size_t i = 0; i < room.labels.size(); i += 4) room.labels[i] = PointClass::Unknown;
+  const VoxelHashMap map = MapOf(room);
+  RegistrationConfig config;
+  const RegistrationResult r = RegisterScan(room.points, room.labels, map,
+                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, config);
+  EXPECT_NEAR(r.alpha, static_cast<double>(r.num_planar) / (r.num_planar + r.num_point), 1e-12);
+  EXPECT_NEAR(r.alpha, 0.75, 0.01);
+}
+
+TEST(Registration, EmptyMapReportsTooFewCorrespondences) {
+  const VoxelHashMap map(0.5, 100.0, 20);
+  const RegistrationResult r = RegisterScan({{1, 2, 3}}, {PointClass::Wall}, map,
+                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, {});
+  EXPECT_FALSE(r.enough_correspondences);
+  EXPECT_TRUE(r.T_world_sensor.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(RegistrationMode, NamesRoundTrip) {
+  for (auto m : {RegistrationMode::kFull, RegistrationMode::kPointToPoint,
+                 RegistrationMode::kPlaneOnly, RegistrationMode::kClassesNoDegeneracy}) {
+    EXPECT_EQ(ParseRegistrationMode(Name(m)), m);
+  }
+  EXPECT_FALSE(ParseRegistrationMode("icp").has_value());
+}
+
+TEST(AdaptiveThreshold, FollowsModelDeviation) {
+  AdaptiveThreshold threshold(2.0, 0.1, 100.0);
+  EXPECT_DOUBLE_EQ(threshold.Sigma(), 2.0);
+  threshold.UpdateModelDeviation(test::MakePose(0.01, 0, 0, 0, 0, 0));  // below min motion
+  EXPECT_DOUBLE_EQ(threshold.Sigma(), 2.0);
+  threshold.UpdateModelDeviation(test::MakePose(0.3, 0.4, 0, 0, 0, 0));
+  EXPECT_NEAR(threshold.Sigma(), 0.5, 1e-12);
+  threshold.UpdateModelDeviation(test::MakePose(0, 0, 0, 0, 0, 0.002));  // 0.2 m at 100 m
+  EXPECT_NEAR(threshold.Sigma(), std::sqrt((0.25 + 0.04) / 2.0), 1e-6);
+}
+
+}  // namespace
+}  // namespace dammloam

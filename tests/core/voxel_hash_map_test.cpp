@@ -1,0 +1,67 @@
+#include <gtest/gtest.h>
+
+#include "core/map/map_config.hpp"
+#include "core/map/voxel_hash_map.hpp"
+#include "synthetic_scenes.hpp"
+
+namespace dammloam {
+namespace {
+
+TEST(VoxelHashMap, NeighbourSearchIsClassWise) {
+  VoxelHashMap map(1.0, 100.0, 20);
+  map.AddPoints({{{0.1, 0.0, 0.0}, {0, 0, 1}, PointClass::Ground},
+                 {{0.5, 0.0, 0.0}, {0, 1, 0}, PointClass::Wall}});
+  const Eigen::Vector3d query(0.0, 0.0, 0.0);
+  const MapPoint* any = map.ClosestNeighbour(query, std::nullopt);
+  ASSERT_NE(any, nullptr);
+  EXPECT_EQ(any->label, PointClass::Ground);
+  const MapPoint* wall = map.ClosestNeighbour(query, PointClass::Wall);
+  ASSERT_NE(wall, nullptr);
+  EXPECT_EQ(wall->label, PointClass::Wall);
+  EXPECT_DOUBLE_EQ(wall->position.x(), 0.5);
+  EXPECT_EQ(map.ClosestNeighbour(query, PointClass::Edge), nullptr);
+}
+
+TEST(VoxelHashMap, SearchCoversExactlyTheNeighbouringVoxels) {
+  VoxelHashMap map(1.0, 100.0, 20);
+  map.AddPoints({{{1.9, 0.5, 0.5}, {0, 0, 0}, PointClass::Edge}});  // voxel (1,0,0)
+  EXPECT_NE(map.ClosestNeighbour({0.5, 0.5, 0.5}, std::nullopt), nullptr);  // voxel (0,0,0)
+  EXPECT_EQ(map.ClosestNeighbour({-0.5, 0.5, 0.5}, std::nullopt), nullptr);  // two voxels away
+}
+
+TEST(VoxelHashMap, CapsPointsPerVoxelPerClass) {
+  VoxelHashMap map(1.0, 100.0, 3);
+  std::vector<MapPoint> points;
+  for (int i = 0; i < 10; ++i) {
+    points.push_back({{0.05 * i, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground});
+    points.push_back({{0.05 * i, 0.2, 0.1}, {0, 1, 0}, PointClass::Wall});
+  }
+  map.AddPoints(points);
+  EXPECT_EQ(map.NumVoxels(), 1u);
+  EXPECT_EQ(map.NumPoints(), 6u);  // 3 ground + 3 wall: one class cannot crowd out the other
+}
+
+TEST(VoxelHashMap, UpdateTransformsPointsAndNormalsAndDropsFarVoxels) {
+  VoxelHashMap map(0.5, 10.0, 20);
+  const Eigen::Isometry3d T = test::MakePose(5.0, 0.0, 0.0, 0.0, 0.0, M_PI / 2);
+  map.Update({{1.0, 0.0, 0.0}}, {PointClass::Wall}, {Eigen::Vector3f(-1, 0, 0)}, T);
+  const auto points = map.Points();
+  ASSERT_EQ(points.size(), 1u);
+  EXPECT_NEAR((points[0].position - Eigen::Vector3d(5.0, 1.0, 0.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((points[0].normal - Eigen::Vector3f(0, -1, 0)).norm(), 0.0, 1e-6);
+  // Sensor moves 20 m away: the voxel is beyond max_distance and must go.
+  map.Update({}, {}, {}, test::MakePose(25.0, 0.0, 0.0, 0, 0, 0));
+  EXPECT_TRUE(map.empty());
+}
+
+TEST(MapConfig, AutoVoxelSizeFollowsTheScene) {
+  MapConfig config;
+  EXPECT_DOUBLE_EQ(AutoVoxelSize(config, 2.0), config.auto_voxel_min);   // corridor
+  EXPECT_DOUBLE_EQ(AutoVoxelSize(config, 60.0), config.auto_voxel_max);  // open field
+  EXPECT_NEAR(AutoVoxelSize(config, 12.0), 0.6, 1e-12);
+  config.voxel_size = 0.7;
+  EXPECT_DOUBLE_EQ(AutoVoxelSize(config, 2.0), 0.7);  // explicit wins
+}
+
+}  // namespace
+}  // namespace dammloam

@@ -1,0 +1,57 @@
+#include "tests/tools/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "tools/common/io_error.hpp"
+
+namespace dammloam::test {
+
+TempDir::TempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "dammloam";
+  for (char& c : name) {
+    if (c == '/') c = '_';
+  }
+  path_ = std::filesystem::temp_directory_path() /
+          ("dammloam_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+std::string IoErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const io::IoError& e) {
+    return e.what();
+  }
+  return "<no IoError>";
+}
+
+std::filesystem::path SharedDataDir() {
+  if (const char* env = std::getenv("DAMMLOAM_DATA_DIR"); env && *env) return env;
+  return DAMMLOAM_SHARED_DATA_DIR;
+}
+
+void WriteText(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+std::string ReadText(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace dammloam::test

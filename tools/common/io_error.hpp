@@ -1,0 +1,12 @@
+#pragma once
+#include <stdexcept>
+
+namespace dammloam::io {
+
+// Every file problem (missing, malformed, inconsistent) is reported with this type; the message
+// always names the file (and line or point index where it helps) and what is wrong.
+struct IoError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace dammloam::io

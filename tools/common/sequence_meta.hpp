@@ -1,0 +1,35 @@
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "core/geometry/scan.hpp"
+
+namespace dammloam::io {
+
+// Point record layouts of scans/NNNNNN.bin (sequence.md): little-endian float32 values.
+enum class PointLayout {
+  kXYZITR,  // x y z intensity t ring (6 floats, the project's own format)
+  kXYZI     // x y z intensity (4 floats, KITTI odometry)
+};
+
+std::size_t FloatsPerPoint(PointLayout layout);
+std::string_view LayoutName(PointLayout layout);  // "xyzitr" / "xyzi", as in meta.json
+
+struct SequenceMeta {
+  std::string sensor;
+  SensorModel model;
+  PointLayout layout = PointLayout::kXYZITR;
+};
+
+// What is assumed about a KITTI folder that carries no meta.json: an HDL-64E-like sensor.
+SequenceMeta KittiMeta();
+
+// Required keys: sensor, rings, columns, scan_period. Optional: vertical_angles_deg (absent or
+// empty = unknown, otherwise exactly `rings` values), min_range, max_range, point_layout
+// ("xyzitr" default or "xyzi"). Unknown keys are ignored. Throws IoError naming file and key.
+SequenceMeta ReadMeta(const std::filesystem::path& meta_json);
+void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta);
+
+}  // namespace dammloam::io

@@ -1,0 +1,67 @@
+#include "tools/evaluate/metrics_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <nlohmann/json.hpp>
+
+namespace dammloam::eval {
+namespace {
+
+using nlohmann::json;
+
+json StatsJson(const ErrorStats& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"sse", s.sse},       {"count", s.count}};
+}
+
+std::string StatsRow(const char* name, const ErrorStats& s) {
+  char line[160];
+  std::snprintf(line, sizeof(line), "%-8s %10.4f %10.4f %10.4f %10.4f %10.4f %10.4f %6zu\n", name,
+                s.rmse, s.mean, s.median, s.std, s.min, s.max, s.count);
+  return line;
+}
+
+}  // namespace
+
+std::string FormatTable(const TrajectoryMetrics& m) {
+  std::string out;
+  char line[200];
+  std::snprintf(line, sizeof(line), "pairs: %zu (unmatched: %zu gt, %zu est)\n", m.pairs,
+                m.unmatched_gt, m.unmatched_est);
+  out += line;
+  std::snprintf(line, sizeof(line), "%-8s %10s %10s %10s %10s %10s %10s %6s\n", "[m]", "rmse",
+                "mean", "median", "std", "min", "max", "n");
+  out += line;
+  out += StatsRow("APE", m.ape);
+  out += StatsRow("RPE", m.rpe);
+  std::snprintf(line, sizeof(line), "path length: %.3f m, end drift: %.4f m (%.3f %%)\n",
+                m.path_length_m, m.end_drift_m, m.drift_percent);
+  out += line;
+  const Eigen::Vector3d t = m.alignment.translation();
+  const double angle_deg = Eigen::AngleAxisd(m.alignment.rotation()).angle() * 180.0 / std::numbers::pi;
+  std::snprintf(line, sizeof(line), "alignment (gt <- est): t = [%.4f, %.4f, %.4f] m, rotation %.4f deg\n",
+                t.x(), t.y(), t.z(), angle_deg);
+  out += line;
+  return out;
+}
+
+std::string FormatJson(const TrajectoryMetrics& m) {
+  const Eigen::Quaterniond q(m.alignment.rotation());
+  const Eigen::Vector3d t = m.alignment.translation();
+  const json root = {
+      {"ape", StatsJson(m.ape)},
+      {"rpe", StatsJson(m.rpe)},
+      {"drift_percent", m.drift_percent},
+      {"end_drift_m", m.end_drift_m},
+      {"path_length_m", m.path_length_m},
+      {"pairs", m.pairs},
+      {"unmatched_gt", m.unmatched_gt},
+      {"unmatched_est", m.unmatched_est},
+      {"alignment",
+       {{"translation", {t.x(), t.y(), t.z()}}, {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}}}},
+  };
+  return root.dump(2);
+}
+
+}  // namespace dammloam::eval

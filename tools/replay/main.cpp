@@ -1,0 +1,157 @@
+// dammloam-replay: publishes a sequence directory (or KITTI folder) as PointCloud samples at the
+// recorded rate, at X times speed, or in lock-step with dammloamd's Odometry.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <thread>
+
+#include "services/dds/dds.hpp"
+#include "services/dds/network_guard.hpp"
+#include "services/dds/point_cloud.hpp"
+#include "services/dds/topics.hpp"
+#include "tools/common/sequence_io.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace dammloam;
+
+struct Options {
+  std::string sequence;
+  std::uint32_t domain = 0;
+  double rate = 1.0;
+  bool lockstep = false;
+  std::string topic = dds::TopicNames{}.points;
+  std::string odometry_topic = dds::TopicNames{}.odometry;
+  std::size_t start_index = 0;
+  std::size_t count = 0;  // 0 = all
+  std::string frame_id = "lidar";
+  bool kitti = false;
+  double lockstep_timeout = 10.0;
+  double wait_subscriber = 10.0;
+  bool allow_default_network = false;
+};
+
+bool SameStamp(const dammloam_msg_Time& a, const dammloam_msg_Time& b) {
+  return a.sec == b.sec && a.nanosec == b.nanosec;
+}
+
+// Waits until dammloamd published the Odometry of the scan stamped `stamp`.
+bool WaitForPose(const dds::Reader<dammloam_msg_Odometry>& reader, const dds::WaitSet& waitset,
+                 const dammloam_msg_Time& stamp, std::chrono::duration<double> timeout) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(timeout);
+  bool found = false;
+  while (!found && Clock::now() < deadline) {
+    waitset.Wait(std::chrono::milliseconds(50));
+    reader.TakeEach([&](const dammloam_msg_Odometry& odom, const dds_sample_info_t&) {
+      if (SameStamp(odom.header.stamp, stamp)) found = true;
+    });
+  }
+  return found;
+}
+
+int Run(const Options& o) {
+  io::ReadOptions read_options;
+  if (o.kitti) read_options.layout = io::PointLayout::kXYZI;
+  const io::SequenceReader sequence = io::SequenceReader::Open(o.sequence, read_options);
+  if (o.start_index >= sequence.size()) {
+    spdlog::error("--start-index {} is beyond the sequence's {} scans", o.start_index,
+                  sequence.size());
+    return 2;
+  }
+  const std::size_t end =
+      o.count == 0 ? sequence.size() : std::min(sequence.size(), o.start_index + o.count);
+
+  dds::Participant participant(static_cast<dds_domainid_t>(o.domain));
+  dds::Topic points_topic(participant, dammloam_msg_PointCloud_desc, o.topic, dds::PointsQos());
+  dds::Writer<dammloam_msg_PointCloud> writer(participant, points_topic, dds::PointsQos());
+  dds::Topic odometry_topic(participant, dammloam_msg_Odometry_desc, o.odometry_topic,
+                            dds::OdometryQos());
+  dds::Reader<dammloam_msg_Odometry> odometry_reader(participant, odometry_topic,
+                                                     dds::OdometryQos());
+  dds::WaitSet waitset(participant);
+  waitset.Attach(odometry_reader);
+
+  const auto wait_ms = std::chrono::milliseconds(static_cast<int>(o.wait_subscriber * 1000));
+  if (!writer.WaitForReaders(1, wait_ms)) {
+    spdlog::error("no subscriber on topic '{}' (domain {}) after {} s: is dammloamd running with "
+                  "the same CYCLONEDDS_URI and domain?", o.topic, o.domain, o.wait_subscriber);
+    return 3;
+  }
+  if (o.lockstep && odometry_reader.MatchedWriters() == 0) {
+    // The daemon's Odometry writer appears together with its PointCloud reader; give discovery
+    // the same time budget.
+    const auto deadline = Clock::now() + wait_ms;
+    while (odometry_reader.MatchedWriters() == 0 && Clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+
+  spdlog::info("replaying {} scans {}..{} of {} on '{}' (domain {}) {}", end - o.start_index,
+               o.start_index, end - 1, o.sequence, o.topic, o.domain,
+               o.lockstep ? std::string("in lock-step") : fmt::format("at {}x", o.rate));
+  const auto t0 = Clock::now();
+  const double first_time = sequence.times()[o.start_index];
+  for (std::size_t k = o.start_index; k < end; ++k) {
+    const Scan scan = sequence.ReadScan(k);
+    const dds::CloudMessage cloud = dds::ScanToCloud(scan, o.frame_id, k);
+    if (!o.lockstep) {
+      const auto due = t0 + std::chrono::duration_cast<Clock::duration>(
+                                std::chrono::duration<double>((scan.t_start - first_time) / o.rate));
+      std::this_thread::sleep_until(due);
+    }
+    writer.Write(dds::CloudView(cloud).get());
+    if (o.lockstep &&
+        !WaitForPose(odometry_reader, waitset, cloud.stamp,
+                     std::chrono::duration<double>(o.lockstep_timeout))) {
+      spdlog::error("lock-step: no Odometry for scan {} (stamp {}.{:09d}) on '{}' within {} s; "
+                    "did dammloamd reject it (see its Status) or stop?", k, cloud.stamp.sec,
+                    cloud.stamp.nanosec, o.odometry_topic, o.lockstep_timeout);
+      return 4;
+    }
+  }
+  // Make sure the last samples reached the subscribers before the participant goes away.
+  dds_wait_for_acks(writer.handle(), DDS_SECS(5));
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  spdlog::info("published {} scans in {:.2f} s", end - o.start_index, seconds);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"dammloam-replay: publish a sequence directory as dammloam PointCloud samples"};
+  app.add_option("SEQUENCE_DIR", o.sequence, "sequence directory or KITTI folder")
+      ->required()->check(CLI::ExistingDirectory);
+  app.add_option("--domain", o.domain, "DDS domain id");
+  auto* rate = app.add_option("--rate", o.rate, "speed factor over the recorded rate")
+                   ->check(CLI::PositiveNumber);
+  app.add_flag("--lockstep", o.lockstep, "send scan k+1 only after the Odometry of scan k")
+      ->excludes(rate);
+  app.add_option("--topic", o.topic, "PointCloud topic");
+  app.add_option("--odometry-topic", o.odometry_topic, "Odometry topic (lock-step)");
+  app.add_option("--start-index", o.start_index, "first scan to publish");
+  app.add_option("--count", o.count, "number of scans (0 = to the end)");
+  app.add_option("--frame-id", o.frame_id, "header.frame_id of the clouds");
+  app.add_flag("--kitti", o.kitti, "KITTI layout (x y z intensity, no time/ring)");
+  app.add_option("--lockstep-timeout", o.lockstep_timeout, "seconds to wait for each pose")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--wait-subscriber", o.wait_subscriber, "seconds to wait for dammloamd")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--allow-default-network", o.allow_default_network,
+               "run without CYCLONEDDS_URI (uses the default network interface)");
+  CLI11_PARSE(app, argc, argv);
+  if (const std::string problem = dds::NetworkConfigProblem(o.allow_default_network);
+      !problem.empty()) {
+    spdlog::error("{}", problem);
+    return 2;
+  }
+  try {
+    return Run(o);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

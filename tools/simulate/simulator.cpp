@@ -1,0 +1,134 @@
+#include "tools/simulate/simulator.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace dammloam::sim {
+
+namespace {
+
+// SplitMix64: a tiny, well-mixed generator. One stream per (seed, scan, column) makes the noise
+// independent of how columns are spread over threads.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t Next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double Uniform() { return (Next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
+  double Gaussian() {  // Box-Muller
+    const double u1 = 1.0 - Uniform(), u2 = Uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  }
+};
+
+SplitMix64 ColumnStream(std::uint64_t seed, int scan, int column) {
+  SplitMix64 mix{seed};
+  mix.state = mix.Next() ^ static_cast<std::uint64_t>(scan) * 0xD1B54A32D192ED03ull;
+  mix.state = mix.Next() ^ static_cast<std::uint64_t>(column) * 0x8CB92BA72F3D8DD7ull;
+  return mix;
+}
+
+// Firing time of a column since the scan start, rounded to float exactly as Scan stores it.
+float ColumnTime(const SensorSpec& s, int column) {
+  return static_cast<float>(s.scan_period * column / s.columns);
+}
+
+}  // namespace
+
+Simulator::Simulator(SceneKind kind, SensorSpec sensor, SimOptions options)
+    : kind_(kind),
+      sensor_(std::move(sensor)),
+      options_(options),
+      world_(BuildWorld(kind, options.speed, std::max(options.num_scans, 1) * sensor_.scan_period)),
+      trajectory_(world_.motion) {
+  if (const std::string why = Validate(sensor_); !why.empty()) {
+    throw std::invalid_argument("sensor '" + sensor_.name + "': " + why);
+  }
+  if (!(options_.noise_sigma >= 0.0)) throw std::invalid_argument("noise sigma must be >= 0");
+  if (!(options_.dropout >= 0.0 && options_.dropout < 1.0)) {
+    throw std::invalid_argument("dropout probability must be in [0, 1)");
+  }
+  const int rings = sensor_.rings();
+  beam_dirs_.resize(static_cast<std::size_t>(sensor_.columns) * rings);
+  for (int c = 0; c < sensor_.columns; ++c) {
+    const double az = ColumnAzimuth(sensor_, c);
+    for (int r = 0; r < rings; ++r) {
+      const double el = sensor_.vertical_angles_deg[static_cast<std::size_t>(r)] * std::numbers::pi / 180.0;
+      beam_dirs_[static_cast<std::size_t>(c) * rings + r] =
+          Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    }
+  }
+}
+
+std::vector<std::string> Simulator::SceneNames() { return sim::SceneNames(); }
+
+double Simulator::ScanStartTime(int index) const {
+  return options_.t0 + index * sensor_.scan_period;
+}
+
+Eigen::Isometry3d Simulator::PoseAt(double t) const { return trajectory_.Pose(t - options_.t0); }
+
+void Simulator::SimulateColumn(int index, int column, double t_start, Return* out) const {
+  const Eigen::Isometry3d T_world_sensor = PoseAt(t_start + ColumnTime(sensor_, column));
+  SplitMix64 rng = ColumnStream(options_.seed, index, column);
+  const int rings = sensor_.rings();
+  for (int r = 0; r < rings; ++r) {
+    // Draw both numbers for every beam so one beam's fate never shifts another's noise.
+    const double noise = options_.noise_sigma * rng.Gaussian();
+    const bool dropped = rng.Uniform() < options_.dropout;
+    const Eigen::Vector3d& dir = beam_dirs_[static_cast<std::size_t>(column) * rings + r];
+    const Ray ray{T_world_sensor.translation(), T_world_sensor.linear() * dir};
+    const std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
+    if (!hit || dropped || hit->t < sensor_.min_range) continue;
+    const double range = hit->t + noise;
+    if (range < sensor_.min_range || range > sensor_.max_range) continue;
+    // Return strength: material reflectivity times incidence (Lambertian-like), 0..255.
+    const double incidence = std::abs(hit->normal.dot(ray.dir));
+    out[r] = {range * dir, static_cast<float>(255.0 * hit->reflectivity * (0.2 + 0.8 * incidence)),
+              true};
+  }
+}
+
+Scan Simulator::SimulateScan(int index) const {
+  const int rings = sensor_.rings(), columns = sensor_.columns;
+  Scan scan;
+  scan.t_start = ScanStartTime(index);
+  std::vector<Return> returns(static_cast<std::size_t>(columns) * rings);
+  auto run = [&](int c0, int c1) {
+    for (int c = c0; c < c1; ++c) {
+      SimulateColumn(index, c, scan.t_start, &returns[static_cast<std::size_t>(c) * rings]);
+    }
+  };
+  if (options_.threads == 1) {
+    run(0, columns);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<int>(0, columns, 16),
+                      [&](const tbb::blocked_range<int>& r) { run(r.begin(), r.end()); });
+  }
+  std::size_t valid = 0;
+  for (const Return& ret : returns) valid += ret.valid ? 1 : 0;
+  scan.points.reserve(valid);
+  scan.intensities.reserve(valid);
+  scan.times.reserve(valid);
+  scan.rings.reserve(valid);
+  for (int c = 0; c < columns; ++c) {
+    for (int r = 0; r < rings; ++r) {
+      const Return& ret = returns[static_cast<std::size_t>(c) * rings + r];
+      if (!ret.valid) continue;
+      scan.points.push_back(ret.point);
+      scan.intensities.push_back(ret.intensity);
+      scan.times.push_back(ColumnTime(sensor_, c));
+      scan.rings.push_back(static_cast<std::int16_t>(r));
+    }
+  }
+  return scan;
+}
+
+}  // namespace dammloam::sim

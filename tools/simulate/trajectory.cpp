@@ -1,0 +1,60 @@
+#include "tools/simulate/trajectory.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace dammloam::sim {
+
+namespace {
+double Wave(double amplitude, double period, double t, double phase = 0.0) {
+  return amplitude * std::sin(2.0 * std::numbers::pi * t / period + phase);
+}
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+}  // namespace
+
+Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
+  const double s = spec_.speed * t;
+  const Path::State base = spec_.path.At(s, spec_.closed);
+  if (path_heading) *path_heading = base.heading;
+  const Eigen::Vector2d left(-std::sin(base.heading), std::cos(base.heading));
+  const double lateral =
+      Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) +
+      Wave(spec_.wobble.lateral, spec_.wobble.lateral_period, t, 0.4);
+  const Eigen::Vector2d xy = base.position + lateral * left;
+  const double ground = spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0;
+  const double z = ground + spec_.sensor_height +
+                   Wave(spec_.wobble.vertical, spec_.wobble.vertical_period, t, 1.1);
+  return {xy.x(), xy.y(), z};
+}
+
+Eigen::Isometry3d Trajectory::Pose(double t) const {
+  double path_heading = 0.0;
+  const Eigen::Vector3d p = Position(t, &path_heading);
+  // Direction of travel by a central difference (exact enough: the path is analytic).
+  constexpr double kDt = 1e-3;
+  const Eigen::Vector3d v = Position(t + kDt) - Position(t - kDt);
+  const double yaw_travel =
+      v.head<2>().norm() > 1e-9 ? std::atan2(v.y(), v.x()) : path_heading;
+  const double yaw = yaw_travel + kDegToRad * Wave(spec_.wobble.yaw_deg, spec_.wobble.yaw_period, t, 2.0);
+
+  // Ground slope along (pitch, nose up when rising) and across (roll, left side up) the heading.
+  double pitch = 0.0, roll = 0.0;
+  if (spec_.ground) {
+    const Eigen::Vector2d g = spec_.ground->Gradient(p.x(), p.y());
+    const Eigen::Vector2d forward(std::cos(yaw), std::sin(yaw)), left(-forward.y(), forward.x());
+    pitch = -std::atan(g.dot(forward));
+    roll = std::atan(g.dot(left));
+  }
+  pitch += kDegToRad * Wave(spec_.wobble.pitch_deg, spec_.wobble.pitch_period, t, 0.7);
+  roll += kDegToRad * Wave(spec_.wobble.roll_deg, spec_.wobble.roll_period, t, 2.9);
+
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+}  // namespace dammloam::sim

@@ -1,0 +1,47 @@
+#pragma once
+#include <Eigen/Geometry>
+#include <optional>
+
+#include "tools/simulate/path.hpp"
+#include "tools/simulate/primitives.hpp"
+
+namespace dammloam::sim {
+
+// Small periodic disturbances of a hand-held or wheeled platform; amplitudes in metres/degrees,
+// periods in seconds. Incommensurate periods keep the motion from repeating exactly.
+struct Wobble {
+  double lateral = 0.03, lateral_period = 6.3;
+  double vertical = 0.01, vertical_period = 1.7;
+  double roll_deg = 0.6, roll_period = 2.3;
+  double pitch_deg = 0.5, pitch_period = 1.9;
+  double yaw_deg = 0.8, yaw_period = 4.1;
+};
+
+struct MotionSpec {
+  Path path;
+  bool closed = false;        // repeat the path (a loop) instead of stopping at its end
+  double speed = 1.0;         // m/s along the path
+  double sensor_height = 1.2; // metres above the ground under the sensor
+  double zigzag_amplitude = 0.0;   // lateral sine offset from the path, metres
+  double zigzag_wavelength = 10.0; // metres of path per zig-zag period
+  Wobble wobble;
+  std::optional<Heightfield> ground;  // z and roll/pitch follow it when set (else ground z = 0)
+};
+
+// The sensor pose as a smooth function of time. Yaw follows the direction of travel, roll and
+// pitch follow the ground slope, plus the wobble.
+class Trajectory {
+ public:
+  explicit Trajectory(MotionSpec spec) : spec_(std::move(spec)) {}
+
+  // T_world_sensor at t seconds after the start of the drive.
+  Eigen::Isometry3d Pose(double t) const;
+  const MotionSpec& spec() const { return spec_; }
+
+ private:
+  Eigen::Vector3d Position(double t, double* path_heading = nullptr) const;
+
+  MotionSpec spec_;
+};
+
+}  // namespace dammloam::sim
