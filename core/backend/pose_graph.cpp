@@ -107,22 +107,40 @@ std::size_t PoseGraph::NumLoopEdges() const {
   return n;
 }
 
-PoseGraphSummary PoseGraph::Optimize() {
-  PoseGraphSummary summary;
-  if (nodes_.size() < 2 || edges_.empty()) {
-    summary.converged = true;
-    return summary;
+std::size_t PoseGraph::NumRejectedLoops() const {
+  std::size_t n = 0;
+  for (const Edge& e : edges_) n += (e.loop && !e.active) ? 1 : 0;
+  return n;
+}
+
+double PoseGraph::WhitenedNorm(const Edge& e) const {
+  const RelativePoseError error(e.t, e.q, e.sqrt_information);
+  const Node& a = nodes_[e.from];
+  const Node& b = nodes_[e.to];
+  double residual[6];
+  error(a.position, a.quaternion, b.position, b.quaternion, residual);
+  return Eigen::Map<const Vector6d>(residual).norm();
+}
+
+std::vector<double> PoseGraph::LoopResiduals() const {
+  std::vector<double> out;
+  for (const Edge& e : edges_) {
+    if (e.loop) out.push_back(WhitenedNorm(e));
   }
-  const auto start = std::chrono::steady_clock::now();
+  return out;
+}
+
+void PoseGraph::Solve(double loop_scale, PoseGraphSummary& summary) {
   ceres::Problem problem;
   for (Node& node : nodes_) {
     problem.AddParameterBlock(node.position, 3);
     problem.AddParameterBlock(node.quaternion, 4, new ceres::EigenQuaternionManifold);
   }
   for (const Edge& e : edges_) {
+    if (!e.active) continue;
     auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
         new RelativePoseError(e.t, e.q, e.sqrt_information));
-    ceres::LossFunction* loss = e.loop ? new ceres::CauchyLoss(config_.loop_robust_scale) : nullptr;
+    ceres::LossFunction* loss = e.loop ? new ceres::CauchyLoss(loop_scale) : nullptr;
     Node& a = nodes_[e.from];
     Node& b = nodes_[e.to];
     problem.AddResidualBlock(cost, loss, a.position, a.quaternion, b.position, b.quaternion);
@@ -137,11 +155,43 @@ PoseGraphSummary PoseGraph::Optimize() {
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(options, &problem, &ceres_summary);
-
-  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
-  summary.iterations = static_cast<int>(ceres_summary.iterations.size());
-  summary.initial_cost = ceres_summary.initial_cost;
+  if (summary.iterations == 0) summary.initial_cost = ceres_summary.initial_cost;
   summary.final_cost = ceres_summary.final_cost;
+  summary.iterations += static_cast<int>(ceres_summary.iterations.size());
+  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+}
+
+PoseGraphSummary PoseGraph::Optimize() {
+  PoseGraphSummary summary;
+  if (nodes_.size() < 2 || edges_.empty()) {
+    summary.converged = true;
+    return summary;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Node> initial = nodes_;
+  const double factor = std::max(1.5, config_.gnc_factor);
+  while (true) {
+    nodes_ = initial;
+    for (double scale = std::max(config_.gnc_initial_scale, config_.loop_robust_scale);;
+         scale /= factor) {
+      Solve(std::max(scale, config_.loop_robust_scale), summary);
+      if (scale <= config_.loop_robust_scale) break;
+    }
+    // Switch off the worst inconsistent loop, if any, and start again without it.
+    Edge* worst = nullptr;
+    double worst_norm = config_.loop_prune_threshold;
+    for (Edge& e : edges_) {
+      if (!e.loop || !e.active) continue;
+      const double norm = WhitenedNorm(e);
+      if (norm > worst_norm) {
+        worst_norm = norm;
+        worst = &e;
+      }
+    }
+    if (worst == nullptr) break;
+    worst->active = false;
+    ++summary.rejected_loops;
+  }
   summary.solve_ms = std::chrono::duration<double, std::milli>(
                          std::chrono::steady_clock::now() - start).count();
   return summary;

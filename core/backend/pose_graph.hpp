@@ -9,8 +9,16 @@
 namespace dammloam::backend {
 
 struct PoseGraphConfig {
-  double loop_robust_scale = 1.0;  // Cauchy scale on whitened loop residuals
-  int max_iterations = 100;
+  // Loop edges are under a Cauchy loss whose scale (in whitened units) is lowered step by step
+  // from gnc_initial_scale to loop_robust_scale (graduated non-convexity): a plain Cauchy loss
+  // would treat every loop as an outlier when drift is large, since all start far off.
+  double loop_robust_scale = 2.0;
+  double gnc_initial_scale = 256.0;
+  double gnc_factor = 4.0;
+  // After optimising, a loop still disagreeing by more than this (whitened norm) is switched
+  // off and the graph re-solved without it, so it keeps no residual pull on the map.
+  double loop_prune_threshold = 10.0;
+  int max_iterations = 50;          // per stage
   // Floors on odometry edge standard deviations: registration covariances are often far too
   // confident, which would leave loop edges nothing to correct.
   double min_translation_sigma = 0.02;  // metres
@@ -23,6 +31,7 @@ struct PoseGraphSummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double solve_ms = 0.0;
+  int rejected_loops = 0;  // loops switched off as inconsistent by this Optimize()
 };
 
 // SE(3) pose graph solved with Ceres: each node a position + unit quaternion (quaternion
@@ -43,6 +52,10 @@ class PoseGraph {
 
   std::size_t NumNodes() const { return nodes_.size(); }
   std::size_t NumLoopEdges() const;
+  // Loop edges currently switched off as inconsistent.
+  std::size_t NumRejectedLoops() const;
+  // Whitened residual norm of every loop edge at the current poses, in insertion order.
+  std::vector<double> LoopResiduals() const;
   Eigen::Isometry3d Pose(std::uint32_t id) const;
   void SetPose(std::uint32_t id, const Eigen::Isometry3d& T_world_node);
 
@@ -57,9 +70,13 @@ class PoseGraph {
     Eigen::Quaterniond q;
     Matrix6d sqrt_information;
     bool loop;
+    bool active = true;
   };
   void AddEdge(std::uint32_t from, std::uint32_t to, const Eigen::Isometry3d& T_from_to,
                const Matrix6d& covariance, bool loop);
+  // One Ceres solve over the active edges with the given Cauchy scale on loop edges.
+  void Solve(double loop_scale, PoseGraphSummary& summary);
+  double WhitenedNorm(const Edge& e) const;
 
   PoseGraphConfig config_;
   std::vector<Node> nodes_;

@@ -79,6 +79,38 @@ void RangeImage::ComputeRowsFromAngles(const std::vector<Eigen::Vector3d>& point
   }
 }
 
+// Unorganised clouds stored ring after ring (KITTI .bin) sweep the azimuth once per ring, so a
+// drop of more than pi starts the next ring. Segments shorter than a quarter of an average ring
+// are stragglers jittering across the +-pi seam, not rings. Accepted only when the number of
+// rings found is within 10 % of the configured rows (KITTI shows 64-65: a partial first ring);
+// column-major (firing order) clouds wrap once and fail this test.
+bool RangeImage::ComputeRowsFromScanOrder(const std::vector<Eigen::Vector3d>& points) {
+  const std::size_t min_ring_points =
+      std::max<std::size_t>(8, points.size() / (4 * static_cast<std::size_t>(configured_rows_)));
+  int ring = 0;
+  std::size_t ring_start = 0;
+  double previous = 0.0;
+  bool first = true;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (point_row_[i] < 0) continue;
+    const double azimuth = std::atan2(points[i].y(), points[i].x());
+    if (!first && previous - azimuth > std::numbers::pi && i - ring_start >= min_ring_points) {
+      ++ring;
+      ring_start = i;
+    }
+    first = false;
+    previous = azimuth;
+    point_row_[i] = ring;
+  }
+  const int found = ring + 1;
+  if (first || 10 * found > 11 * configured_rows_ || 10 * found < 9 * configured_rows_) {
+    for (int& row : point_row_) row = std::min(row, 0);  // back to "pending"
+    return false;
+  }
+  rows_ = std::max(configured_rows_, found);
+  return true;
+}
+
 void RangeImage::ComputeRowsFromSpan(const std::vector<Eigen::Vector3d>& points) {
   rows_ = configured_rows_;
   // Two passes (span, then bins) compute each elevation twice; only unorganised clouds without
@@ -110,7 +142,7 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
     ComputeRowsFromRings(rings);
   } else if (!angle_table_.empty()) {
     ComputeRowsFromAngles(points);
-  } else {
+  } else if (!ComputeRowsFromScanOrder(points)) {
     ComputeRowsFromSpan(points);
   }
 

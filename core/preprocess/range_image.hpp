@@ -13,7 +13,9 @@ namespace dammloam {
 // Row (top = 0):
 //   1. the point's ring when the scan has rings (ring 0 = top beam, as in the sequence format);
 //   2. else the nearest of the sensor's vertical angles, ranked from the highest down;
-//   3. else a uniform bin over the elevation span observed in this scan.
+//   3. else, for clouds stored ring after ring (KITTI .bin), the ring counted from the azimuth
+//      wrap-arounds in point order, if that finds 90-110 % of the configured rows;
+//   4. else a uniform bin over the elevation span observed in this scan.
 // Column: azimuth a = atan2(y, x) in (-pi, pi], c = floor((a + pi) / (2 pi) * cols) mod cols,
 //   i.e. column 0 looks backwards (-x) and columns grow counter-clockwise seen from above
 //   (-x, -y, +x, +y). Columns wrap around: column cols-1 neighbours column 0.
@@ -42,6 +44,7 @@ class RangeImage {
   int ColumnOf(const Eigen::Vector3d& p) const;
   void ComputeRowsFromRings(const std::vector<std::int16_t>& rings);
   void ComputeRowsFromAngles(const std::vector<Eigen::Vector3d>& points);
+  bool ComputeRowsFromScanOrder(const std::vector<Eigen::Vector3d>& points);
   void ComputeRowsFromSpan(const std::vector<Eigen::Vector3d>& points);
   void BuildAngleTable();
 

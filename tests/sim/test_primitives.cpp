@@ -101,7 +101,7 @@ TEST(Path, ArcsAndLinesCloseTheLoop) {
   const Path::State end = loop.At(loop.length());
   EXPECT_LT(end.position.norm(), 1e-9);
   EXPECT_NEAR(end.heading, 2 * kPi, 1e-9);
-  const Path::State corner = loop.At(28 + 3 * kPi);  // halfway round the first corner
+  const Path::State corner = loop.At(28 + 1.5 * kPi);  // halfway round the first corner
   EXPECT_NEAR(corner.position.x(), 28 + 6 * std::sin(kPi / 4), 1e-9);
   EXPECT_NEAR(corner.position.y(), 6 - 6 * std::cos(kPi / 4), 1e-9);
   EXPECT_NEAR(loop.At(loop.length() + 5.0, true).position.x(), 5.0, 1e-9);

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <initializer_list>
+#include <limits>
 
 #include "tests/tools/test_support.hpp"
 #include "tools/common/sequence_io.hpp"
@@ -17,7 +19,7 @@ using test::WriteText;
 #define EXPECT_IO_ERROR(statement, ...)                                          \
   do {                                                                           \
     const std::string error_ = IoErrorOf([&] { statement; });                   \
-    for (const std::string fragment_ : {__VA_ARGS__}) {                          \
+    for (const std::string& fragment_ : std::initializer_list<std::string>{__VA_ARGS__}) { \
       EXPECT_NE(error_.find(fragment_), std::string::npos)                       \
           << "missing '" << fragment_ << "' in: " << error_;                     \
     }                                                                            \
@@ -26,6 +28,12 @@ using test::WriteText;
 constexpr const char* kMeta =
     R"({"sensor": "test", "rings": 4, "columns": 8, "scan_period": 0.1, "min_range": 0.3,
         "max_range": 100.0, "point_layout": "xyzitr"})";
+
+ReadOptions StrictOptions() {
+  ReadOptions options;
+  options.strict = true;
+  return options;
+}
 
 void WriteFloats(const std::filesystem::path& file, const std::vector<float>& values) {
   std::ofstream out(file, std::ios::binary);
@@ -149,7 +157,7 @@ TEST_F(BrokenSequence, NonFinitePointUnderStrict) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   WriteScan(0, {1, 2, 3, 10, 0.0f, 0, 4, nan, 6, 20, 0.05f, 3});
   EXPECT_EQ(ReadFirst().size(), 1u);
-  EXPECT_IO_ERROR(ReadFirst({.strict = true}), "000000.bin", "point 1", "NaN/inf");
+  EXPECT_IO_ERROR(ReadFirst(StrictOptions()), "000000.bin", "point 1", "NaN/inf");
 }
 
 TEST_F(BrokenSequence, NegativePointTime) {

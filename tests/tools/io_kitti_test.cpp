@@ -11,6 +11,12 @@ namespace {
 
 using test::TempDir;
 
+ReadOptions XyziOptions() {
+  ReadOptions options;
+  options.layout = PointLayout::kXYZI;
+  return options;
+}
+
 void WriteXyzi(const std::filesystem::path& file, std::size_t points, float offset) {
   std::vector<float> values;
   for (std::size_t i = 0; i < points; ++i) {
@@ -51,7 +57,7 @@ TEST(KittiFolder, FlatFolderNeedsExplicitLayoutAndUsesTimesTxt) {
   EXPECT_NE(error.find("meta.json"), std::string::npos) << error;
 
   test::WriteText(tmp / "times.txt", "0.000000e+00\n1.037359e-01\n");
-  const SequenceReader reader = SequenceReader::Open(tmp.path(), {.layout = PointLayout::kXYZI});
+  const SequenceReader reader = SequenceReader::Open(tmp.path(), XyziOptions());
   ASSERT_EQ(reader.size(), 2u);
   EXPECT_EQ(reader.times()[1], 0.1037359);
   EXPECT_EQ(reader.ReadScan(1).size(), 6u);
@@ -66,7 +72,7 @@ TEST(KittiFolder, ExplicitLayoutOverridesMeta) {
   }
   WriteXyzi(tmp / "scans" / ScanFileName(0), 3, 0.0f);
   test::WriteText(tmp / "times.txt", "1.5\n");
-  const SequenceReader reader = SequenceReader::Open(tmp.path(), {.layout = PointLayout::kXYZI});
+  const SequenceReader reader = SequenceReader::Open(tmp.path(), XyziOptions());
   EXPECT_EQ(reader.ReadScan(0).size(), 3u);
   EXPECT_EQ(reader.ReadScan(0).t_start, 1.5);
 }
@@ -75,7 +81,7 @@ TEST(KittiFolder, ExplicitLayoutOverridesMeta) {
 TEST(KittiFolder, RealHdl64Scans) {
   const auto dir = test::SharedDataDir() / "kitti_hdl64_patchworkpp_6frames";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "real data not found at " << dir;
-  const SequenceReader reader = SequenceReader::Open(dir, {.layout = PointLayout::kXYZI});
+  const SequenceReader reader = SequenceReader::Open(dir, XyziOptions());
   ASSERT_EQ(reader.size(), 6u);
   EXPECT_EQ(reader.times().back(), 0.5);
   ScanReadReport report;

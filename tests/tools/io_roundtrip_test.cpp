@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "core/geometry/se3.hpp"
@@ -124,7 +125,9 @@ TEST(SequenceRoundTrip, EmptyScanAndMissingIntensities) {
   no_intensity.intensities.clear();
   {
     SequenceWriter writer(tmp.path(), meta);
-    writer.Write(Scan{.t_start = 0.5});
+    Scan empty;
+    empty.t_start = 0.5;
+    writer.Write(empty);
     writer.Write(no_intensity);
   }
   const SequenceReader reader = SequenceReader::Open(tmp.path());
@@ -151,8 +154,10 @@ TEST(SequenceRoundTrip, NonFinitePointsAreDroppedAndCounted) {
   EXPECT_EQ(read.times.size(), 18u);
   EXPECT_EQ(read.points[3], scan.points[4].cast<float>().cast<double>());
 
+  ReadOptions strict;
+  strict.strict = true;
   const std::string error = test::IoErrorOf(
-      [&] { SequenceReader::Open(tmp.path(), {.strict = true}).ReadScan(0); });
+      [&] { SequenceReader::Open(tmp.path(), strict).ReadScan(0); });
   EXPECT_NE(error.find("000000.bin"), std::string::npos) << error;
   EXPECT_NE(error.find("point 3"), std::string::npos) << error;
   EXPECT_NE(error.find("NaN"), std::string::npos) << error;

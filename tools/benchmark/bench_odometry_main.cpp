@@ -43,6 +43,22 @@ void PrintRow(const RunSummary& s, const RunSummary& baseline) {
   std::fflush(stdout);
 }
 
+// Frame-to-frame motion error per scan, to see where tracking goes wrong.
+void PrintPerScan(const dammloam::bench::SimSequence& seq, const RunSummary& run) {
+  for (std::size_t i = 1; i < run.results.size(); ++i) {
+    const auto& r = run.results[i];
+    const Eigen::Isometry3d gt = seq.ground_truth[i - 1].T.inverse() * seq.ground_truth[i].T;
+    const Eigen::Isometry3d est = run.estimate[i - 1].T.inverse() * run.estimate[i].T;
+    const Eigen::Vector3d e = (gt.inverse() * est).translation();
+    std::printf("    %3zu %-12s it %2d corr %5u alpha %.2f  gt dt (%6.3f %6.3f %6.3f)  err (%6.3f "
+                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f)\n",
+                i, std::string(dammloam::Name(r.status)).c_str(), r.iterations,
+                r.num_correspondences, r.alpha, gt.translation().x(), gt.translation().y(),
+                gt.translation().z(), e.x(), e.y(), e.z(), r.degeneracy.eigenvalues[0],
+                r.degeneracy.eigenvalues[1], r.degeneracy.eigenvalues[2]);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -53,6 +69,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy", "full"};
   std::string json_path;
   std::uint64_t seed = 1;
+  bool per_scan = false;
+  app.add_flag("--per-scan", per_scan, "print every scan's motion error (debugging)");
   app.add_option("--scans", scans, "scans per sequence")->check(CLI::Range(3, 100000));
   app.add_option("--scenes", scenes, "simulated scenes");
   app.add_option("--sensors", sensors, "simulated sensors");
@@ -86,6 +104,7 @@ int main(int argc, char** argv) {
         dammloam::OdometryConfig config;
         config.registration.mode = *mode;
         runs.push_back(dammloam::bench::RunPipeline(sequence, config));
+        if (per_scan) PrintPerScan(sequence, runs.back());
         PrintRow(runs.back(), runs.front());
       }
       nlohmann::json entry{{"scene", scene_name}, {"sensor", sensor_name}, {"scans", scans}};

@@ -154,7 +154,7 @@ Eigen::Vector3d Heightfield::Normal(double x, double y) const {
 bool Heightfield::Intersect(const Ray& ray, double t_min, Hit& best) const {
   // f(t) = height of the ray above the ground. Only the slab |z - base| <= max_amplitude_ can
   // hold a crossing. Above ground, |f'| <= |d_z| + max_slope_ |d_xy| bounds how fast f can drop,
-  // so stepping by f / that bound never jumps over the first crossing; Newton polishes the end.
+  // so stepping by f / that bound never jumps over the first crossing.
   const Eigen::Vector3d& o = ray.origin;
   const Eigen::Vector3d& d = ray.dir;
   auto f = [&](double t) { return o.z() + t * d.z() - Height(o.x() + t * d.x(), o.y() + t * d.y()); };
@@ -173,33 +173,22 @@ bool Heightfield::Intersect(const Ray& ray, double t_min, Hit& best) const {
   double ft = f(t);
   if (ft <= 0.0) return false;  // starts below ground: not a visible surface
   const double drop_rate = std::abs(d.z()) + max_slope_ * d.head<2>().norm();
-  constexpr double kNear = 1e-4;  // metres above ground where Newton takes over
+  // Safe steps shrink as the ray nears the ground; a 0.1 mm minimum step then crosses it and
+  // bisection of the last step pins the crossing down.
+  constexpr double kMinStep = 1e-4;
   double t_prev = t;
-  while (ft > kNear) {
+  while (ft > 0.0) {
     t_prev = t;
-    t += std::max(ft / drop_rate, 1e-6);
-    if (t >= t_hi) return false;
+    if (t_prev >= t_hi) return false;
+    t = std::min(t + std::max(ft / drop_rate, kMinStep), t_hi);
     ft = f(t);
   }
-  if (ft < 0.0) {
-    // Only the 1e-6 minimum step can overshoot: bisect the bracket [t_prev, t].
-    double a = t_prev, b = t;
-    for (int i = 0; i < 60 && b - a > 1e-12; ++i) {
-      const double m = 0.5 * (a + b);
-      (f(m) > 0.0 ? a : b) = m;
-    }
-    t = 0.5 * (a + b);
-  } else {
-    for (int i = 0; i < 8; ++i) {
-      const Eigen::Vector3d p = o + t * d;
-      const double rate = d.z() - Gradient(p.x(), p.y()).dot(d.head<2>());
-      if (std::abs(rate) < 1e-12) break;
-      const double step = ft / rate;
-      t -= step;
-      ft = f(t);
-      if (std::abs(step) < 1e-12) break;
-    }
+  double a = t_prev, b = t;
+  for (int i = 0; i < 64 && b - a > 1e-11; ++i) {
+    const double m = 0.5 * (a + b);
+    (f(m) > 0.0 ? a : b) = m;
   }
+  t = 0.5 * (a + b);
   if (!Accept(t, t_min, best) || t > t_hi) return false;
   const Eigen::Vector3d p = o + t * d;
   best = Hit{t, Normal(p.x(), p.y()), reflectivity_};
