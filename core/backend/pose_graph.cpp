@@ -130,7 +130,7 @@ std::vector<double> PoseGraph::LoopResiduals() const {
   return out;
 }
 
-void PoseGraph::Solve(double loop_scale, PoseGraphSummary& summary) {
+void PoseGraph::Solve(PoseGraphSummary& summary) {
   ceres::Problem problem;
   for (Node& node : nodes_) {
     problem.AddParameterBlock(node.position, 3);
@@ -140,7 +140,7 @@ void PoseGraph::Solve(double loop_scale, PoseGraphSummary& summary) {
     if (!e.active) continue;
     auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
         new RelativePoseError(e.t, e.q, e.sqrt_information));
-    ceres::LossFunction* loss = e.loop ? new ceres::CauchyLoss(loop_scale) : nullptr;
+    ceres::LossFunction* loss = e.loop ? new ceres::HuberLoss(config_.loop_huber_scale) : nullptr;
     Node& a = nodes_[e.from];
     Node& b = nodes_[e.to];
     problem.AddResidualBlock(cost, loss, a.position, a.quaternion, b.position, b.quaternion);
@@ -169,14 +169,9 @@ PoseGraphSummary PoseGraph::Optimize() {
   }
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Node> initial = nodes_;
-  const double factor = std::max(1.5, config_.gnc_factor);
   while (true) {
     nodes_ = initial;
-    for (double scale = std::max(config_.gnc_initial_scale, config_.loop_robust_scale);;
-         scale /= factor) {
-      Solve(std::max(scale, config_.loop_robust_scale), summary);
-      if (scale <= config_.loop_robust_scale) break;
-    }
+    Solve(summary);
     // Switch off the worst inconsistent loop, if any, and start again without it.
     Edge* worst = nullptr;
     double worst_norm = config_.loop_prune_threshold;

@@ -9,16 +9,14 @@
 namespace dammloam::backend {
 
 struct PoseGraphConfig {
-  // Loop edges are under a Cauchy loss whose scale (in whitened units) is lowered step by step
-  // from gnc_initial_scale to loop_robust_scale (graduated non-convexity): a plain Cauchy loss
-  // would treat every loop as an outlier when drift is large, since all start far off.
-  double loop_robust_scale = 2.0;
-  double gnc_initial_scale = 256.0;
-  double gnc_factor = 4.0;
+  // Loop edges are under a Huber loss (scale in whitened units): its bounded pull cannot drag
+  // the map far, yet unlike Cauchy it never drops a true loop whose drift the (usually
+  // over-confident) odometry covariances make look large.
+  double loop_huber_scale = 1.0;
   // After optimising, a loop still disagreeing by more than this (whitened norm) is switched
-  // off and the graph re-solved without it, so it keeps no residual pull on the map.
+  // off and the graph re-solved without it, so a false loop keeps no pull on the map at all.
   double loop_prune_threshold = 10.0;
-  int max_iterations = 50;          // per stage
+  int max_iterations = 100;
   // Floors on odometry edge standard deviations: registration covariances are often far too
   // confident, which would leave loop edges nothing to correct.
   double min_translation_sigma = 0.02;  // metres
@@ -36,7 +34,8 @@ struct PoseGraphSummary {
 
 // SE(3) pose graph solved with Ceres: each node a position + unit quaternion (quaternion
 // manifold); odometry edges weighted by their inverse covariance, loop edges additionally under
-// a Cauchy loss so that a single wrong loop has bounded influence. Node 0 is held fixed.
+// a Huber loss and pruned when inconsistent, so a single wrong loop cannot wreck the map.
+// Node 0 is held fixed.
 class PoseGraph {
  public:
   explicit PoseGraph(const PoseGraphConfig& config = {}) : config_(config) {}
@@ -74,8 +73,8 @@ class PoseGraph {
   };
   void AddEdge(std::uint32_t from, std::uint32_t to, const Eigen::Isometry3d& T_from_to,
                const Matrix6d& covariance, bool loop);
-  // One Ceres solve over the active edges with the given Cauchy scale on loop edges.
-  void Solve(double loop_scale, PoseGraphSummary& summary);
+  // One Ceres solve over the active edges.
+  void Solve(PoseGraphSummary& summary);
   double WhitenedNorm(const Edge& e) const;
 
   PoseGraphConfig config_;

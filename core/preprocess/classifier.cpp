@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -17,18 +18,24 @@ constexpr double kMajorityEpsilon = 1e-9;  // 2/3 * 9 must accept 6 votes despit
 Classifier::Classifier(const ClassifierConfig& config)
     : config_(config), edge_angle_rad_(config.edge_angle_deg * std::numbers::pi / 180.0) {}
 
-// Mean of the pairwise angles, with a cheap exact bound first: for unit vectors the sum of
-// squared chords over all pairs is n^2 - |sum|^2, an angle is at most pi/2 times its chord, and
-// a mean is at most the root mean square. Flat windows (most of a scan) stop there; only the
-// rest pay for the acos of every pair.
+// Mean of the pairwise angles, decided with cheap exact bounds before any acos. For unit
+// vectors an angle lies between its chord c and (pi/2) c, and the sum of squared chords over
+// all pairs is n^2 - |sum|^2. So: root-mean-square chord * pi/2 below the threshold -> not an
+// edge (flat windows, most of a scan); mean chord above it -> an edge (clear corners); only
+// the windows in between pay for the acos of every pair.
 bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const {
   if (count < 2) return false;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int i = 0; i < count; ++i) sum += normals[i].cast<double>();
   const double pairs = 0.5 * count * (count - 1);
   const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
-  const double upper_bound = 0.5 * std::numbers::pi * std::sqrt(mean_chord2);
-  if (upper_bound <= edge_angle_rad_) return false;
+  if (0.5 * std::numbers::pi * std::sqrt(mean_chord2) <= edge_angle_rad_) return false;
+
+  double chord_sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    for (int j = i + 1; j < count; ++j) chord_sum += (normals[i] - normals[j]).norm();
+  }
+  if (chord_sum / pairs > edge_angle_rad_) return true;
 
   double angle_sum = 0.0;
   for (int i = 0; i < count; ++i) {
@@ -39,27 +46,38 @@ bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int co
   return angle_sum / pairs > edge_angle_rad_;
 }
 
+// The planar class a single gravity-aligned normal votes for (Unknown: none).
+PointClass Classifier::Vote(const Eigen::Vector3f& n) const {
+  const float k = static_cast<float>(config_.dominance);
+  const Eigen::Vector3f a = n.cwiseAbs();
+  if (a.z() >= k * a.x() && a.z() >= k * a.y()) {
+    return n.z() > 0.0f ? PointClass::Ground : PointClass::Roof;
+  }
+  if ((a.x() >= k * a.y() && a.x() >= k * a.z()) || (a.y() >= k * a.x() && a.y() >= k * a.z())) {
+    return PointClass::Wall;
+  }
+  return PointClass::Unknown;
+}
+
 PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
                                       bool centre_valid) const {
+  std::array<PointClass, 9> votes{};
+  const int n = std::min(count, 9);
+  for (int i = 0; i < n; ++i) votes[static_cast<std::size_t>(i)] = Vote(normals[i]);
+  return Decide(normals, votes.data(), n, centre_valid);
+}
+
+PointClass Classifier::Decide(const Eigen::Vector3f* normals, const PointClass* votes, int count,
+                              bool centre_valid) const {
   if (count < config_.min_valid_normals || count == 0) return PointClass::Unknown;
   if (MeanPairwiseAngleExceeds(normals, count)) return PointClass::Edge;
   if (config_.require_centre_normal && !centre_valid) return PointClass::Unknown;
-
-  const float k = static_cast<float>(config_.dominance);
-  int up = 0, down = 0, side = 0;
-  for (int i = 0; i < count; ++i) {
-    const Eigen::Vector3f a = normals[i].cwiseAbs();
-    if (a.z() >= k * a.x() && a.z() >= k * a.y()) {
-      (normals[i].z() > 0.0f ? up : down) += 1;
-    } else if ((a.x() >= k * a.y() && a.x() >= k * a.z()) ||
-               (a.y() >= k * a.x() && a.y() >= k * a.z())) {
-      ++side;
-    }
-  }
+  ClassCounts tally{};
+  for (int i = 0; i < count; ++i) ++tally[Index(votes[i])];
   const double needed = config_.majority * count - kMajorityEpsilon;
-  if (up >= needed) return PointClass::Ground;
-  if (down >= needed) return PointClass::Roof;
-  if (side >= needed) return PointClass::Wall;
+  for (const PointClass c : {PointClass::Ground, PointClass::Roof, PointClass::Wall}) {
+    if (tally[Index(c)] >= needed) return c;
+  }
   return PointClass::Unknown;
 }
 
@@ -71,13 +89,19 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
   const auto& normals = normal_map.normals();
   const Eigen::Matrix3f R = R_world_sensor.cast<float>();
 
-  // Gravity-aligned normals once per pixel, not once per window they appear in.
+  // Gravity-aligned normals and their votes once per pixel, not once per window they are in.
   std::vector<Eigen::Vector3f> aligned(normals.size());
-  for (std::size_t i = 0; i < normals.size(); ++i) aligned[i] = R * normals[i];
+  std::vector<PointClass> pixel_votes(normals.size(), PointClass::Unknown);
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    if (!valid[i]) continue;
+    aligned[i] = R * normals[i];
+    pixel_votes[i] = Vote(aligned[i]);
+  }
 
   std::vector<PointClass> labels(normals.size(), PointClass::Unknown);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& rr) {
     Eigen::Vector3f window[9];
+    PointClass votes[9];
     for (int r = rr.begin(); r < rr.end(); ++r) {
       for (int c = 0; c < cols; ++c) {
         int count = 0;
@@ -87,11 +111,13 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
           for (int dc = -1; dc <= 1; ++dc) {
             const int wc = c + dc < 0 ? cols - 1 : (c + dc >= cols ? 0 : c + dc);
             const std::size_t pixel = static_cast<std::size_t>(wr) * cols + wc;
-            if (valid[pixel]) window[count++] = aligned[pixel];
+            if (!valid[pixel]) continue;
+            window[count] = aligned[pixel];
+            votes[count++] = pixel_votes[pixel];
           }
         }
         const std::size_t centre = static_cast<std::size_t>(r) * cols + c;
-        labels[centre] = ClassifyWindow(window, count, valid[centre] != 0);
+        labels[centre] = Decide(window, votes, count, valid[centre] != 0);
       }
     }
   });

@@ -35,6 +35,9 @@ class Classifier {
   PointClass ClassifyWindow(const Eigen::Vector3f* normals, int count, bool centre_valid) const;
 
  private:
+  PointClass Vote(const Eigen::Vector3f& n) const;
+  PointClass Decide(const Eigen::Vector3f* normals, const PointClass* votes, int count,
+                    bool centre_valid) const;
   bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const;
 
   ClassifierConfig config_;

@@ -26,13 +26,13 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
 
 // Same surface if the range jump is no larger than a plane seen at the minimum incidence angle
 // would produce between these two rays: |dr| <= r_mean * angle(p, q) * cot(beta_min) + noise.
-// The ray angle is taken as the chord between unit directions (exact enough below a few deg).
-bool NormalMap::Continuous(const Eigen::Vector3d& p, const Eigen::Vector3d& q) const {
-  const double rp = p.norm();
-  const double rq = q.norm();
+// The ray angle is taken as the chord between unit directions, 2 - 2 cos (exact enough below a
+// few degrees), which needs no square root.
+bool NormalMap::Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vector3d& q,
+                           double rq) const {
   const double jump = std::abs(rp - rq) - range_noise_;
   if (jump <= 0.0) return true;
-  const double chord2 = (p / rp - q / rq).squaredNorm();
+  const double chord2 = 2.0 - 2.0 * p.dot(q) / (rp * rq);
   const double scale = 0.5 * (rp + rq) * cot_min_incidence_;
   return jump * jump <= scale * scale * chord2;
 }
@@ -55,7 +55,11 @@ void NormalMap::ComputeRow(const RangeImage& image, int r) {
     const Eigen::Vector3d& pr = image.point(r, right);
     const Eigen::Vector3d& pu = image.point(above, c);
     const Eigen::Vector3d& pd = image.point(below, c);
-    if (!Continuous(p, pl) || !Continuous(p, pr) || !Continuous(p, pu) || !Continuous(p, pd)) {
+    const double rp = image.range(r, c);
+    if (!Continuous(p, rp, pl, image.range(r, left)) ||
+        !Continuous(p, rp, pr, image.range(r, right)) ||
+        !Continuous(p, rp, pu, image.range(above, c)) ||
+        !Continuous(p, rp, pd, image.range(below, c))) {
       continue;
     }
     // Paper eqs. (surface tangents, normal vector).

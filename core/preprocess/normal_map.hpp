@@ -31,7 +31,7 @@ class NormalMap {
 
  private:
   void ComputeRow(const RangeImage& image, int r);
-  bool Continuous(const Eigen::Vector3d& p, const Eigen::Vector3d& q) const;
+  bool Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vector3d& q, double rq) const;
 
   int rows_;
   int cols_;

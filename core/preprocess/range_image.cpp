@@ -1,5 +1,8 @@
 #include "core/preprocess/range_image.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -10,6 +13,7 @@ namespace dammloam {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr int kMaxRows = 1024;  // no spinning LiDAR has more beams
 constexpr double kAngleTableStep = 0.005 * std::numbers::pi / 180.0;  // 0.005 deg bins
 
 int PositiveOr(int value, int fallback) { return value > 0 ? value : fallback; }
@@ -61,12 +65,14 @@ int RangeImage::ColumnOf(const Eigen::Vector3d& p) const {
 }
 
 void RangeImage::ComputeRowsFromRings(const std::vector<std::int16_t>& rings) {
+  // A corrupt ring must not blow the image up: beyond kMaxRows the point is not projected.
   int max_ring = -1;
-  for (const auto ring : rings) max_ring = std::max<int>(max_ring, ring);
-  rows_ = std::max(configured_rows_, max_ring + 1);
   for (std::size_t i = 0; i < rings.size(); ++i) {
-    if (point_row_[i] == 0) point_row_[i] = rings[i] >= 0 ? rings[i] : -1;
+    const bool usable = point_row_[i] == 0 && rings[i] >= 0 && rings[i] < kMaxRows;
+    point_row_[i] = usable ? rings[i] : -1;
+    if (usable) max_ring = std::max<int>(max_ring, rings[i]);
   }
+  rows_ = std::max(configured_rows_, max_ring + 1);
 }
 
 void RangeImage::ComputeRowsFromAngles(const std::vector<Eigen::Vector3d>& points) {
@@ -152,16 +158,24 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   point_.assign(pixels, Eigen::Vector3d::Zero());
   pixel_of_.assign(n, -1);
 
+  // Pixels of all points in parallel (the atan2 is most of the cost), then the nearest-wins
+  // pass in index order, which is what makes ties deterministic.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (point_row_[i] >= 0) pixel_of_[i] = Flat(point_row_[i], ColumnOf(points[i]));
+    }
+  });
   for (std::size_t i = 0; i < n; ++i) {
-    if (point_row_[i] < 0) continue;
-    const int pixel = Flat(point_row_[i], ColumnOf(points[i]));
-    pixel_of_[i] = pixel;
+    const int pixel = pixel_of_[i];
+    if (pixel < 0) continue;
     // Strictly nearer replaces: on a tie the earlier (lower) index keeps the pixel.
     if (index_[pixel] < 0 || points[i].squaredNorm() < point_[pixel].squaredNorm()) {
       index_[pixel] = static_cast<int>(i);
-      range_[pixel] = static_cast<float>(points[i].norm());
       point_[pixel] = points[i];
     }
+  }
+  for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
+    if (index_[pixel] >= 0) range_[pixel] = static_cast<float>(point_[pixel].norm());
   }
 }
 

@@ -25,7 +25,7 @@ class RangeImage {
   RangeImage(const RangeImageConfig& config, const SensorModel& sensor);
 
   // Projects the points (rings may be empty, else one per point). Points with a non-finite
-  // or zero range, or a negative ring, are not projected. O(N + pixels).
+  // or zero range, or a ring outside [0, 1024), are not projected. O(N + pixels).
   void Build(const std::vector<Eigen::Vector3d>& points, const std::vector<std::int16_t>& rings);
 
   int rows() const { return rows_; }

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <condition_variable>
+#include <cstdio>
 #include <tuple>
 
 #include "core/odometry/unclassified_scan.hpp"

@@ -25,9 +25,9 @@ class StageQueue {
   // run and calls on_drop(T&&) for every older item skipped because of the backlog limit.
   template <typename OnDrop>
   std::optional<T> Pop(std::chrono::microseconds timeout, OnDrop&& on_drop) {
-    T item;
+    T item{};
     if (!queue_.wait_dequeue_timed(item, timeout)) return std::nullopt;
-    T next;
+    T next{};
     while (queue_.size_approx() > max_backlog_ && queue_.try_dequeue(next)) {
       on_drop(std::move(item));
       item = std::move(next);

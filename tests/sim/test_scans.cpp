@@ -262,9 +262,9 @@ double MedianPointToFacade(const std::vector<Eigen::Vector3d>& query, const Clou
 TEST(Simulator, GroundTruthDeskewAlignsNeighbourScansAndRawScansDoNot) {
   constexpr double kSigma = 0.01;
   SimOptions o = Options(kSigma);
-  o.speed = 3.0;  // 0.3 m travelled within one scan
+  o.speed = 3.0;  // 0.3 m and, in a corner of the loop, 3 deg of turn within one scan
   const Simulator sim(SceneKind::Outdoor, Os1_64(), o);
-  const Scan a = sim.SimulateScan(20), b = sim.SimulateScan(21);
+  const Scan a = sim.SimulateScan(110), b = sim.SimulateScan(111);  // in the first corner
   Cloud ref{WorldPoints(sim, b, true)};
   KdTree tree(3, ref, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   tree.buildIndex();

@@ -12,14 +12,14 @@
 namespace dammloam::eval {
 namespace {
 
-struct Run {
+struct ProcessResult {
   int exit_code = -1;
   std::string output;  // stdout (stderr too when asked)
 };
 
-Run RunEvaluate(const std::string& arguments) {
+ProcessResult RunEvaluate(const std::string& arguments) {
   const std::string command = std::string(DAMMLOAM_BIN_DIR) + "/dammloam-evaluate " + arguments;
-  Run run;
+  ProcessResult run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return run;
   std::array<char, 4096> buffer{};
@@ -53,7 +53,7 @@ class EvaluateCli : public ::testing::Test {
 };
 
 TEST_F(EvaluateCli, JsonOutput) {
-  const Run run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --json");
+  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto json = nlohmann::json::parse(run.output);
   EXPECT_EQ(json["pairs"], 11);
@@ -64,7 +64,7 @@ TEST_F(EvaluateCli, JsonOutput) {
 }
 
 TEST_F(EvaluateCli, TableAndPlot) {
-  const Run run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --plot " + Path("out.svg"));
+  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --plot " + Path("out.svg"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("APE"), std::string::npos) << run.output;
   EXPECT_EQ(test::ReadText(tmp_ / "out.svg").rfind("<svg", 0), 0u);
@@ -72,11 +72,11 @@ TEST_F(EvaluateCli, TableAndPlot) {
 
 TEST_F(EvaluateCli, BadInputFailsNamingTheFile) {
   test::WriteText(tmp_ / "broken.tum", "0 1 2\n");
-  const Run run = RunEvaluate(Path("gt.tum") + " " + Path("broken.tum") + " --json 2>&1");
+  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("broken.tum") + " --json 2>&1");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.output.find("broken.tum:1"), std::string::npos) << run.output;
 
-  const Run no_pairs = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --max-time-diff 0.0001 2>&1");
+  const ProcessResult no_pairs = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --max-time-diff 0.0001 2>&1");
   EXPECT_EQ(no_pairs.exit_code, 1);
   EXPECT_NE(no_pairs.output.find("need at least 2"), std::string::npos) << no_pairs.output;
 }

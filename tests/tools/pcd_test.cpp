@@ -73,6 +73,18 @@ TEST(LabelledPcd, ErrorsNameTheFile) {
   test::WriteText(tmp / "garbage.pcd", "this is not a point cloud\n");
   error = test::IoErrorOf([&] { ReadLabelledPcd(tmp / "garbage.pcd"); });
   EXPECT_NE(error.find("garbage.pcd"), std::string::npos) << error;
+
+  test::WriteText(tmp / "xy.pcd",
+                  "VERSION .7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\n"
+                  "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2\n");
+  error = test::IoErrorOf([&] { ReadLabelledPcd(tmp / "xy.pcd"); });
+  EXPECT_NE(error.find("xy.pcd: PCD has no x y z fields"), std::string::npos) << error;
+
+  test::WriteText(tmp / "short.pcd",
+                  "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                  "WIDTH 100\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 100\nDATA binary\n1234");
+  error = test::IoErrorOf([&] { ReadLabelledPcd(tmp / "short.pcd"); });
+  EXPECT_NE(error.find("short.pcd"), std::string::npos) << error;
 }
 
 // A real HDL-32E scan saved by PCL (x y z intensity, binary): read without labels or normals.

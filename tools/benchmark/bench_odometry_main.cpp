@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
   std::string json_path;
   std::uint64_t seed = 1;
   bool per_scan = false;
+  bool no_remap = false;
+  app.add_flag("--no-remap", no_remap, "full mode without solution remapping (weights only)");
   app.add_flag("--per-scan", per_scan, "print every scan's motion error (debugging)");
   app.add_option("--scans", scans, "scans per sequence")->check(CLI::Range(3, 100000));
   app.add_option("--scenes", scenes, "simulated scenes");
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
         }
         dammloam::OdometryConfig config;
         config.registration.mode = *mode;
+        if (no_remap) config.registration.remap_degenerate_directions = false;
         runs.push_back(dammloam::bench::RunPipeline(sequence, config));
         if (per_scan) PrintPerScan(sequence, runs.back());
         PrintRow(runs.back(), runs.front());

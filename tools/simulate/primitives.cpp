@@ -128,7 +128,6 @@ Heightfield::Heightfield(double base, std::vector<Ripple> ripples, float reflect
     : base_(base), ripples_(std::move(ripples)), reflectivity_(reflectivity) {
   for (const auto& r : ripples_) {
     max_amplitude_ += std::abs(r.amplitude);
-    max_slope_ += std::abs(r.amplitude) * r.wave.norm();
   }
 }
 
@@ -153,7 +152,7 @@ Eigen::Vector3d Heightfield::Normal(double x, double y) const {
 
 bool Heightfield::Intersect(const Ray& ray, double t_min, Hit& best) const {
   // f(t) = height of the ray above the ground. Only the slab |z - base| <= max_amplitude_ can
-  // hold a crossing. Above ground, |f'| <= |d_z| + max_slope_ |d_xy| bounds how fast f can drop,
+  // hold a crossing. Above ground, |f'| <= |d_z| + sum |a_i k_i . d_xy| bounds how fast f drops,
   // so stepping by f / that bound never jumps over the first crossing.
   const Eigen::Vector3d& o = ray.origin;
   const Eigen::Vector3d& d = ray.dir;
@@ -172,21 +171,43 @@ bool Heightfield::Intersect(const Ray& ray, double t_min, Hit& best) const {
   double t = t_lo;
   double ft = f(t);
   if (ft <= 0.0) return false;  // starts below ground: not a visible surface
-  const double drop_rate = std::abs(d.z()) + max_slope_ * d.head<2>().norm();
-  // Safe steps shrink as the ray nears the ground; a 0.1 mm minimum step then crosses it and
-  // bisection of the last step pins the crossing down.
-  constexpr double kMinStep = 1e-4;
-  double t_prev = t;
+  // How fast the ground can rise along this ray: each ripple only by its slope along d_xy.
+  double drop_rate = std::abs(d.z());
+  for (const auto& r : ripples_) drop_rate += std::abs(r.amplitude * r.wave.dot(d.head<2>()));
+  drop_rate = std::max(drop_rate, 1e-9);
+  // Safe steps shrink as the ray nears the ground. Below a 2 cm step the march strides on (a
+  // ridge that would dip into the ray and out again within 2 cm is ignored), so it soon lands
+  // below ground, and regula falsi on that last step pins the crossing down.
+  constexpr double kMinStep = 0.02;
+  double t_prev = t, f_prev = ft;
   while (ft > 0.0) {
+    if (t >= t_hi) return false;
     t_prev = t;
-    if (t_prev >= t_hi) return false;
+    f_prev = ft;
     t = std::min(t + std::max(ft / drop_rate, kMinStep), t_hi);
     ft = f(t);
   }
-  double a = t_prev, b = t;
-  for (int i = 0; i < 64 && b - a > 1e-11; ++i) {
-    const double m = 0.5 * (a + b);
-    (f(m) > 0.0 ? a : b) = m;
+  // Illinois variant of regula falsi on [a, b] with f(a) > 0 >= f(b).
+  double a = t_prev, fa = f_prev, b = t, fb = ft;
+  int side = 0;
+  for (int i = 0; i < 40; ++i) {
+    const double m = b - fb * (b - a) / (fb - fa);
+    const double fm = f(m);
+    if (std::abs(fm) < 1e-12 || b - a < 1e-12) {
+      a = b = m;
+      break;
+    }
+    if (fm > 0.0) {
+      a = m;
+      fa = fm;
+      if (side == 1) fb *= 0.5;
+      side = 1;
+    } else {
+      b = m;
+      fb = fm;
+      if (side == -1) fa *= 0.5;
+      side = -1;
+    }
   }
   t = 0.5 * (a + b);
   if (!Accept(t, t_min, best) || t > t_hi) return false;

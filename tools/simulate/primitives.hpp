@@ -78,8 +78,8 @@ struct Ripple {
   double phase = 0.0;
 };
 
-// Smooth uneven ground z = base + sum of ripples, unbounded in x and y. The amplitude and slope
-// bounds let the ray marcher step safely without missing a crossing.
+// Smooth uneven ground z = base + sum of ripples, unbounded in x and y. The bounds on its
+// amplitude and on each ripple's slope let the ray marcher step safely towards a crossing.
 class Heightfield {
  public:
   Heightfield() = default;
@@ -95,7 +95,6 @@ class Heightfield {
   std::vector<Ripple> ripples_;
   float reflectivity_ = 0.25f;
   double max_amplitude_ = 0.0;  // |Height - base| never exceeds this
-  double max_slope_ = 0.0;      // |Gradient| never exceeds this
 };
 
 }  // namespace dammloam::sim

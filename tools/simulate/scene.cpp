@@ -8,7 +8,7 @@ namespace dammloam::sim {
 
 namespace {
 // A primitive covering more cells than this is cheaper to test for every beam.
-constexpr double kMaxCellsPerItem = 24.0;
+constexpr double kMaxCellsPerItem = 100.0;
 
 Bounds2d BoundsOf(const Primitive& p) {
   return std::visit([](const auto& shape) { return shape.bounds(); }, p);

@@ -129,16 +129,30 @@ void WriteLabelledPcd(const std::filesystem::path& file, const LabelledCloud& cl
 LabelledCloud ReadLabelledPcd(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) throw IoError(file.string() + ": PCD file does not exist");
   pcl::PCLPointCloud2 cloud2;
-  int status = -1;
   try {
-    status = pcl::PCDReader().read(file.string(), cloud2);
+    // PCL 1.13 crashes reading the body of a file whose header has no fields, so the header is
+    // checked on its own first.
+    pcl::PCDReader reader;
+    Eigen::Vector4f origin;
+    Eigen::Quaternionf orientation;
+    int version = 0, data_type = 0;
+    unsigned int data_index = 0;
+    if (reader.readHeader(file.string(), cloud2, origin, orientation, version, data_type,
+                          data_index) != 0) {
+      throw IoError(file.string() + ": cannot read PCD header");
+    }
+    if (!FindField(cloud2, "x") || !FindField(cloud2, "y") || !FindField(cloud2, "z")) {
+      throw IoError(file.string() + ": PCD has no x y z fields");
+    }
+    if (cloud2.width * cloud2.height == 0) return {};
+    if (reader.read(file.string(), cloud2) != 0) {
+      throw IoError(file.string() + ": cannot read PCD (malformed data)");
+    }
   } catch (const pcl::PCLException& e) {
     throw IoError(file.string() + ": cannot read PCD (" + e.what() + ")");
   }
-  if (status != 0) throw IoError(file.string() + ": cannot read PCD (malformed header or data)");
 
   const auto x = FindField(cloud2, "x"), y = FindField(cloud2, "y"), z = FindField(cloud2, "z");
-  if (!x || !y || !z) throw IoError(file.string() + ": PCD has no x y z fields");
   const auto intensity = FindField(cloud2, "intensity");
   const auto label = FindField(cloud2, "label");
   const auto nx = FindField(cloud2, "normal_x"), ny = FindField(cloud2, "normal_y"),

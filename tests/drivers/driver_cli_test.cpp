@@ -1,0 +1,186 @@
+// dammloam-driver end to end: pcap conversion, live UDP over loopback, bad input.
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "drivers/net/pcap_reader.hpp"
+#include "drivers/net/udp_receiver.hpp"
+#include "drivers/ouster/cloud.hpp"
+#include "drivers/ouster/packet_decoder.hpp"
+#include "test_data.hpp"
+#include "tools/common/sequence_io.hpp"
+
+extern char** environ;
+
+namespace dammloam::drivers {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::DataDir;
+
+const fs::path kDriver = fs::path(DAMMLOAM_DRIVER_BIN_DIR) / "dammloam-driver";
+fs::path OusterDir() { return DataDir() / "ouster_sdk_pcaps"; }
+fs::path Lbn3Pcap() { return OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap"; }
+fs::path Lbn3Json() { return OusterDir() / "OS-1-128_v2.3.0_1024x10.json"; }
+
+// A fresh directory per test (tests run in parallel under ctest -j).
+fs::path TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("dammloam_drivers_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Runs the driver, returns its exit code; stdout+stderr go to `log`.
+int RunDriver(const std::vector<std::string>& args, const fs::path& log) {
+  std::string cmd = kDriver.string();
+  for (const auto& a : args) cmd += " '" + a + "'";
+  cmd += " > '" + log.string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string ReadBytes(const fs::path& p) { return testing::ReadText(p); }
+
+TEST(DriverCli, PcapConversionWritesSequenceAndRangeDump) {
+  DAMMLOAM_REQUIRE_DATA(Lbn3Pcap());
+  const fs::path dir = TempDir("convert");
+  const int rc = RunDriver({"ouster", "--metadata", Lbn3Json().string(), "--pcap", Lbn3Pcap().string(),
+                            "--to-sequence", (dir / "seq").string(), "--dump-range", (dir / "range.bin").string()},
+                           dir / "log.txt");
+  ASSERT_EQ(rc, 0) << ReadBytes(dir / "log.txt");
+
+  // The dump is the staggered range images of the 3 frames, byte for byte.
+  const ouster::Metadata meta = ouster::LoadMetadata(Lbn3Json());
+  ouster::PacketDecoder decoder(meta);
+  PcapReader reader(Lbn3Pcap(), PcapFilter{meta.udp_port_lidar});
+  std::string expected;
+  std::vector<std::size_t> sizes;
+  const ouster::CloudMaker cloud(meta);
+  for (UdpDatagram d; reader.Next(d);) {
+    if (auto f = decoder.Push(d.payload)) {
+      expected.append(reinterpret_cast<const char*>(f->range.data()), f->range.size() * 4);
+      sizes.push_back(cloud.ToScan(*f).size());
+    }
+  }
+  ASSERT_EQ(sizes.size(), 3u);
+  const std::string dump = ReadBytes(dir / "range.bin");
+  EXPECT_EQ(dump.size(), 3u * 128u * 1024u * 4u);
+  EXPECT_TRUE(dump == expected);
+
+  const auto seq = io::SequenceReader::Open(dir / "seq");
+  ASSERT_EQ(seq.size(), 3u);
+  EXPECT_EQ(seq.meta().sensor, "os1-128");
+  EXPECT_EQ(seq.meta().model.rings, 128);
+  EXPECT_EQ(seq.meta().model.vertical_angles_deg.size(), 128u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Scan s = seq.ReadScan(i);
+    EXPECT_EQ(s.size(), sizes[i]);
+    EXPECT_TRUE(s.has_times());
+    EXPECT_TRUE(s.has_rings());
+  }
+  fs::remove_all(dir);
+}
+
+// Port of a UDP socket nobody holds right now (the kernel picks it).
+std::uint16_t FreeUdpPort() { return UdpReceiver(0, "127.0.0.1").port(); }
+
+// True once some socket is bound to `port` (/proc/net/udp lists local ports in hex).
+bool UdpPortBound(std::uint16_t port) {
+  std::ifstream in("/proc/net/udp");
+  char hex[8];
+  std::snprintf(hex, sizeof(hex), ":%04X", port);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(hex) != std::string::npos && line.find(hex) < 40) return true;
+  }
+  return false;
+}
+
+TEST(DriverCli, LiveModeOverLoopbackMatchesPcapMode) {
+  DAMMLOAM_REQUIRE_DATA(Lbn3Pcap());
+  const fs::path dir = TempDir("live");
+  const std::uint16_t port = FreeUdpPort();
+  std::vector<std::string> args = {kDriver.string(), "ouster", "--metadata", Lbn3Json().string(),
+                                   "--udp-port", std::to_string(port), "--bind", "127.0.0.1",
+                                   "--dump-range", (dir / "live.bin").string(), "--to-sequence",
+                                   (dir / "seq").string(), "--max-scans", "3", "--idle-timeout", "20"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, kDriver.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+  for (int i = 0; i < 500 && !UdpPortBound(port); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(UdpPortBound(port)) << "driver did not bind UDP port " << port;
+
+  // Send the capture's packets (lidar and IMU) to the driver like a sensor would.
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  PcapReader reader(Lbn3Pcap());
+  int sent = 0;
+  for (UdpDatagram d; reader.Next(d);) {
+    ::sendto(fd, d.payload.data(), d.payload.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
+    // Pace like the sensor (~1.3 kHz) so the receive buffer never overflows.
+    if (++sent % 8 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ::close(fd);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+
+  // Same frames as the pcap path, bit for bit.
+  ASSERT_EQ(RunDriver({"ouster", "--metadata", Lbn3Json().string(), "--pcap", Lbn3Pcap().string(), "--dump-range",
+                       (dir / "pcap.bin").string()},
+                      dir / "log.txt"),
+            0);
+  const std::string live = ReadBytes(dir / "live.bin");
+  EXPECT_EQ(live.size(), 3u * 128u * 1024u * 4u);
+  EXPECT_TRUE(live == ReadBytes(dir / "pcap.bin"));
+  EXPECT_EQ(io::SequenceReader::Open(dir / "seq").size(), 3u);
+  fs::remove_all(dir);
+}
+
+TEST(DriverCli, BadInputGivesClearErrors) {
+  const fs::path dir = TempDir("bad");
+  {
+    std::ofstream(dir / "broken.json") << "{\"beam_altitude_angles\": [1, 2]}";
+    EXPECT_EQ(RunDriver({"ouster", "--metadata", (dir / "broken.json").string(), "--udp-port", "1"}, dir / "log1.txt"), 1);
+    const std::string log = ReadBytes(dir / "log1.txt");
+    EXPECT_NE(log.find("broken.json"), std::string::npos) << log;
+    EXPECT_NE(log.find("beam_azimuth_angles"), std::string::npos) << log;
+  }
+  {
+    std::ofstream(dir / "one.yaml") << "lasers:\n  - {laser_id: 0, vert_correction: 0.1}\n";
+    EXPECT_EQ(RunDriver({"velodyne", "--model", "vlp16", "--calibration", (dir / "one.yaml").string(), "--udp-port", "1"},
+                        dir / "log2.txt"),
+              1);
+    const std::string log = ReadBytes(dir / "log2.txt");
+    EXPECT_NE(log.find("1 lasers but model vlp16 has 16"), std::string::npos) << log;
+  }
+  {
+    // A capture without a single complete frame: exit code 2 and the partial frame named.
+    const auto fusa = OusterDir() / "OS-1-128_767798045_1024x10_20230712_120049.pcap";
+    if (fs::exists(fusa)) {
+      EXPECT_EQ(RunDriver({"ouster", "--metadata", (OusterDir() / "OS-1-128_767798045_1024x10_20230712_120049.json").string(),
+                           "--pcap", fusa.string(), "--dump-range", (dir / "r.bin").string()},
+                          dir / "log3.txt"),
+                2);
+      const std::string log = ReadBytes(dir / "log3.txt");
+      EXPECT_NE(log.find("partial_frames"), std::string::npos) << log;
+    }
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dammloam::drivers

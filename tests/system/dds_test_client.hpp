@@ -1,0 +1,158 @@
+#pragma once
+// Test-side DDS peer of dammloamd: publishes clouds, collects Odometry, Status and
+// LabelledCloud samples (copied out of the loans) and waits for specific ones.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "services/dds/dds.hpp"
+#include "services/dds/messages.hpp"
+#include "services/dds/point_cloud.hpp"
+#include "services/dds/topics.hpp"
+
+namespace dammloam::test {
+
+// Pins Cyclone DDS to loopback for this process and the processes it starts.
+inline void UseLoopbackDds() {
+  const char* uri = std::getenv("CYCLONEDDS_URI");
+  if (uri == nullptr || *uri == '\0') {
+    const std::string file = std::string("file://") + DAMMLOAM_SOURCE_DIR +
+                             "/deploy/cyclonedds-loopback.xml";
+    setenv("CYCLONEDDS_URI", file.c_str(), 1);
+  }
+}
+
+struct ReceivedPose {
+  dammloam_msg_Time stamp{};
+  std::uint64_t input_seq = 0;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  bool registered = false;
+  std::string status;
+};
+
+struct ReceivedStatus {
+  bool is_error_event = false;
+  std::string last_error;
+  std::uint64_t received = 0, processed = 0, dropped = 0, rejected = 0;
+};
+
+struct ReceivedLabelledCloud {
+  dammloam_msg_Time stamp{};
+  std::size_t width = 0;
+  std::string error;                 // conversion problem, empty if none
+  std::vector<PointClass> labels;
+  std::vector<std::uint8_t> raw_labels;
+};
+
+inline bool SameStamp(const dammloam_msg_Time& a, const dammloam_msg_Time& b) {
+  return a.sec == b.sec && a.nanosec == b.nanosec;
+}
+
+class DdsTestClient {
+ public:
+  explicit DdsTestClient(std::uint32_t domain, const dds::TopicNames& topics = {})
+      : participant_(static_cast<dds_domainid_t>(domain)),
+        points_topic_(participant_, dammloam_msg_PointCloud_desc, topics.points, dds::PointsQos()),
+        odometry_topic_(participant_, dammloam_msg_Odometry_desc, topics.odometry,
+                        dds::OdometryQos()),
+        status_topic_(participant_, dammloam_msg_Status_desc, topics.status, dds::StatusQos()),
+        labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, topics.labelled_cloud,
+                        dds::LabelledCloudQos()),
+        points_(participant_, points_topic_, dds::PointsQos(16)),  // bursts reach the daemon whole
+        odometry_(participant_, odometry_topic_, {true, 1000, true}),
+        status_(participant_, status_topic_, {true, 1000, true}),
+        labelled_(participant_, labelled_topic_, {true, 100, false}) {}
+
+  // Waits until the daemon's reader and writers are matched.
+  bool WaitForDaemon(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (points_.MatchedReaders() > 0 && odometry_.MatchedWriters() > 0 &&
+          status_.MatchedWriters() > 0 && labelled_.MatchedWriters() > 0) {
+        return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  void Publish(const dds::CloudMessage& cloud) { points_.Write(dds::CloudView(cloud).get()); }
+
+  void Poll() {
+    odometry_.TakeEach([this](const dammloam_msg_Odometry& m, const dds_sample_info_t&) {
+      poses.push_back({m.header.stamp, m.input_seq, dds::FromMsgPose(m.pose), m.registered,
+                       m.status});
+    }, 64);
+    status_.TakeEach([this](const dammloam_msg_Status& m, const dds_sample_info_t&) {
+      statuses.push_back({m.is_error_event, m.last_error, m.scans_received, m.scans_processed,
+                          m.scans_dropped, m.scans_rejected});
+    }, 64);
+    labelled_.TakeEach([this](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {
+      ReceivedLabelledCloud c;
+      c.stamp = m.header.stamp;
+      c.width = std::size_t{m.cloud.width} * m.cloud.height;
+      if (auto points = dds::CloudToLabelled(m.cloud, &c.error)) c.labels = points->labels;
+      for (std::uint32_t i = 0; i < m.cloud.data._length; i += m.cloud.point_step) {
+        c.raw_labels.push_back(m.cloud.data._buffer[i + 36]);
+      }
+      clouds.push_back(std::move(c));
+    }, 16);
+  }
+
+  // Polls until pred() holds or the timeout passes.
+  bool WaitUntil(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (true) {
+      Poll();
+      if (pred()) return true;
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+
+  std::size_t CountPoses(const dammloam_msg_Time& stamp) const {
+    std::size_t n = 0;
+    for (const auto& p : poses) n += SameStamp(p.stamp, stamp) ? 1 : 0;
+    return n;
+  }
+
+  bool WaitForPose(const dammloam_msg_Time& stamp, std::chrono::milliseconds timeout) {
+    return WaitUntil([&] { return CountPoses(stamp) > 0; }, timeout);
+  }
+
+  // Waits for an error Status whose last_error contains `text`; returns that message.
+  std::optional<std::string> WaitForError(const std::string& text,
+                                          std::chrono::milliseconds timeout) {
+    std::optional<std::string> found;
+    WaitUntil([&] {
+      for (const auto& s : statuses) {
+        if (s.is_error_event && s.last_error.find(text) != std::string::npos) {
+          found = s.last_error;
+          return true;
+        }
+      }
+      return false;
+    }, timeout);
+    return found;
+  }
+
+  std::vector<ReceivedPose> poses;
+  std::vector<ReceivedStatus> statuses;
+  std::vector<ReceivedLabelledCloud> clouds;
+
+ private:
+  dds::Participant participant_;
+  dds::Topic points_topic_, odometry_topic_, status_topic_, labelled_topic_;
+  dds::Writer<dammloam_msg_PointCloud> points_;
+  dds::Reader<dammloam_msg_Odometry> odometry_;
+  dds::Reader<dammloam_msg_Status> status_;
+  dds::Reader<dammloam_msg_LabelledCloud> labelled_;
+};
+
+}  // namespace dammloam::test

@@ -1,0 +1,164 @@
+// dammloamd, dammloam-replay and dammloam-record as separate processes on loopback DDS, each
+// test on its own domain: clean SIGTERM, refusal without CYCLONEDDS_URI, a replay killed and
+// restarted mid-stream, and the lock-step trajectory equal to the offline runner's.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+
+#include "tests/system/child_process.hpp"
+#include "tests/system/dds_test_client.hpp"
+#include "tests/system/sim_sequence.hpp"
+#include "tools/common/tum.hpp"
+
+namespace dammloam::test {
+namespace {
+
+using std::chrono::milliseconds;
+
+std::vector<std::string> DaemonArgs(std::uint32_t domain, const std::filesystem::path& seq) {
+  return {"--domain", std::to_string(domain), "--sensor-meta", (seq / "meta.json").string(),
+          "--no-loop-closure"};
+}
+
+class DaemonProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    UseLoopbackDds();
+    for (const char* tool : {"dammloamd", "dammloam-replay", "dammloam-record"}) {
+      if (!ToolExists(tool)) GTEST_SKIP() << tool << " not built in " << DAMMLOAM_BIN_DIR;
+    }
+  }
+};
+
+TEST_F(DaemonProcess, SigtermStopsTheDaemonCleanlyWithinOneSecond) {
+  constexpr std::uint32_t kDomain = 81;
+  const auto dir = TestDir("sigterm");
+  const sim::Simulator simulator = SmallSimulator(2);
+  WriteSequence(simulator, 2, dir / "seq");
+  ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
+  ASSERT_TRUE(daemon.started());
+  DdsTestClient client(kDomain);
+  ASSERT_TRUE(client.WaitForDaemon(milliseconds(20000))) << daemon.Log();
+  // Give it work in flight, then stop it.
+  const dds::CloudMessage cloud = dds::ScanToCloud(simulator.SimulateScan(0), "lidar", 0);
+  client.Publish(cloud);
+  ASSERT_TRUE(client.WaitForPose(cloud.stamp, milliseconds(60000))) << daemon.Log();
+  const auto t0 = std::chrono::steady_clock::now();
+  daemon.Signal(SIGTERM);
+  const std::optional<int> code = daemon.Wait(milliseconds(5000));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(code) << "dammloamd did not stop within 5 s\n" << daemon.Log();
+  EXPECT_EQ(*code, 0) << daemon.Log();
+  EXPECT_LT(seconds, 1.0);
+  EXPECT_NE(daemon.Log().find("stopped: 1 received, 1 processed"), std::string::npos) << daemon.Log();
+}
+
+TEST_F(DaemonProcess, EveryToolRefusesToStartWithoutCycloneDdsUri) {
+  const auto dir = TestDir("no-uri");
+  const std::string saved = std::getenv("CYCLONEDDS_URI");
+  unsetenv("CYCLONEDDS_URI");
+  ChildProcess daemon("dammloamd", {"--domain", "82"}, dir / "daemon.log");
+  ChildProcess record("dammloam-record", {"--poses", (dir / "p.tum").string()}, dir / "rec.log");
+  setenv("CYCLONEDDS_URI", saved.c_str(), 1);
+  for (ChildProcess* p : {&daemon, &record}) {
+    const auto code = p->Wait(milliseconds(10000));
+    ASSERT_TRUE(code);
+    EXPECT_EQ(*code, 2);
+    EXPECT_NE(p->Log().find("CYCLONEDDS_URI is not set"), std::string::npos) << p->Log();
+    EXPECT_NE(p->Log().find("--allow-default-network"), std::string::npos);
+  }
+}
+
+TEST_F(DaemonProcess, ReplayKilledAndRestartedMidStreamIsPickedUpAgain) {
+  constexpr std::uint32_t kDomain = 83;
+  constexpr int kScans = 12;
+  const auto dir = TestDir("restart");
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  WriteSequence(simulator, kScans, dir / "seq");
+  ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
+  DdsTestClient client(kDomain);
+  ASSERT_TRUE(client.WaitForDaemon(milliseconds(20000))) << daemon.Log();
+
+  const std::vector<std::string> replay_args = {(dir / "seq").string(), "--domain",
+                                                std::to_string(kDomain), "--lockstep",
+                                                "--lockstep-timeout", "60"};
+  {
+    ChildProcess replay("dammloam-replay", replay_args, dir / "replay1.log");
+    ASSERT_TRUE(client.WaitUntil([&] { return client.poses.size() >= 5; }, milliseconds(120000)))
+        << replay.Log() << daemon.Log();
+    replay.Signal(SIGKILL);
+    replay.Wait(milliseconds(5000));
+  }
+  client.WaitUntil([] { return false; }, milliseconds(300));
+  const std::size_t before = client.poses.size();
+  ASSERT_LT(before, static_cast<std::size_t>(kScans)) << "the replay was not stopped mid-stream";
+
+  // Restart where the poses stopped (the scan in flight may come again: it is a duplicate).
+  auto args = replay_args;
+  args.insert(args.end(), {"--start-index", std::to_string(before)});
+  ChildProcess replay("dammloam-replay", args, dir / "replay2.log");
+  const auto code = replay.Wait(milliseconds(180000));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 0) << replay.Log();
+  ASSERT_TRUE(client.WaitUntil([&] { return client.poses.size() >= kScans; }, milliseconds(10000)));
+
+  std::vector<io::StampedPose> estimate;
+  for (const auto& pose : client.poses) {
+    EXPECT_TRUE(pose.registered) << pose.status;
+    estimate.push_back({dds::ToSeconds(pose.stamp), pose.T});
+  }
+  ASSERT_EQ(estimate.size(), static_cast<std::size_t>(kScans));
+  for (int i = 0; i < kScans; ++i) {
+    EXPECT_NEAR(estimate[static_cast<std::size_t>(i)].t, simulator.ScanStartTime(i), 1e-6);
+  }
+  // Tracking continued across the restart: the last pose still matches the ground truth.
+  const Eigen::Isometry3d T0 = simulator.PoseAt(simulator.ScanStartTime(0));
+  const Eigen::Isometry3d T_true = T0.inverse() * simulator.PoseAt(simulator.ScanStartTime(kScans - 1));
+  EXPECT_LT((estimate.back().T.translation() - T_true.translation()).norm(), 0.2);
+}
+
+TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {
+  constexpr std::uint32_t kDomain = 84;
+  constexpr int kScans = 10;
+  if (!ToolExists("dammloam-odometry")) GTEST_SKIP() << "dammloam-odometry not built";
+  const auto dir = TestDir("equivalence");
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  WriteSequence(simulator, kScans, dir / "seq");
+
+  ChildProcess offline("dammloam-odometry",
+                       {(dir / "seq").string(), "--out", (dir / "offline.tum").string(), "--quiet"},
+                       dir / "offline.log");
+  ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
+  ChildProcess record("dammloam-record",
+                      {"--domain", std::to_string(kDomain), "--poses", (dir / "dds.tum").string(),
+                       "--count", std::to_string(kScans), "--timeout", "120"},
+                      dir / "record.log");
+  ChildProcess replay("dammloam-replay",
+                      {(dir / "seq").string(), "--domain", std::to_string(kDomain), "--lockstep",
+                       "--lockstep-timeout", "60", "--wait-subscriber", "30"},
+                      dir / "replay.log");
+  const auto replay_code = replay.Wait(milliseconds(300000));
+  ASSERT_TRUE(replay_code);
+  ASSERT_EQ(*replay_code, 0) << replay.Log() << daemon.Log();
+  const auto record_code = record.Wait(milliseconds(60000));
+  ASSERT_TRUE(record_code);
+  ASSERT_EQ(*record_code, 0) << record.Log();
+  const auto offline_code = offline.Wait(milliseconds(300000));
+  ASSERT_TRUE(offline_code);
+  ASSERT_EQ(*offline_code, 0) << offline.Log();
+
+  const auto online_poses = io::ReadTum(dir / "dds.tum");
+  const auto offline_poses = io::ReadTum(dir / "offline.tum");
+  ASSERT_EQ(online_poses.size(), static_cast<std::size_t>(kScans));
+  ASSERT_EQ(offline_poses.size(), online_poses.size());
+  for (std::size_t i = 0; i < online_poses.size(); ++i) {
+    EXPECT_NEAR(online_poses[i].t, offline_poses[i].t, 1e-6);
+    EXPECT_LT((online_poses[i].T.translation() - offline_poses[i].T.translation()).norm(), 1e-6)
+        << "scan " << i;
+    const Eigen::AngleAxisd dR(online_poses[i].T.rotation().transpose() *
+                               offline_poses[i].T.rotation());
+    EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
+  }
+}
+
+}  // namespace
+}  // namespace dammloam::test

@@ -1,0 +1,234 @@
+#include "tools/common/config_yaml.hpp"
+
+#include <set>
+#include <sstream>
+#include <yaml-cpp/yaml.h>
+
+namespace dammloam::io {
+
+namespace {
+
+// One YAML mapping with the dotted path that leads to it. Every key read is remembered so
+// that leftovers (typos, keys of another version) are reported instead of silently ignored.
+class Section {
+ public:
+  Section(YAML::Node node, std::string path) : node_(std::move(node)), path_(std::move(path)) {
+    if (node_ && !node_.IsNull() && !node_.IsMap()) Fail("", "expected a mapping");
+  }
+
+  template <typename T>
+  void Get(const std::string& key, T& value) {
+    known_.insert(key);
+    if (!node_ || node_.IsNull()) return;
+    const YAML::Node v = node_[key];
+    if (!v) return;
+    try {
+      if (!v.IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "not a scalar");
+      value = v.as<T>();
+    } catch (const YAML::Exception&) {
+      Fail(key, "expected " + TypeName<T>() + ", got '" + Dump(v) + "'");
+    }
+  }
+
+  void GetMode(const std::string& key, RegistrationMode& mode) {
+    std::string name(Name(mode));
+    Get(key, name);
+    const auto parsed = ParseRegistrationMode(name);
+    if (!parsed) {
+      Fail(key, "unknown value '" + name +
+                    "' (expected full, point_to_point, plane_only or classes_no_degeneracy)");
+    }
+    mode = *parsed;
+  }
+
+  Section Child(const std::string& key) {
+    known_.insert(key);
+    return Section(node_ && node_.IsMap() ? node_[key] : YAML::Node(), Join(key));
+  }
+
+  void RejectUnknownKeys() const {
+    if (!node_ || !node_.IsMap()) return;
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!known_.count(key)) Fail(key, "unknown key");
+    }
+  }
+
+ private:
+  template <typename T>
+  static std::string TypeName() {
+    if constexpr (std::is_same_v<T, bool>) return "true or false";
+    else if constexpr (std::is_integral_v<T>) return "an integer";
+    else if constexpr (std::is_floating_point_v<T>) return "a number";
+    else return "a string";
+  }
+  static std::string Dump(const YAML::Node& v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  }
+  std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  [[noreturn]] void Fail(const std::string& key, const std::string& what) const {
+    throw ConfigError((key.empty() ? path_ : Join(key)) + ": " + what);
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  std::set<std::string> known_;
+};
+
+void ReadPreprocess(Section s, PreprocessConfig& c) {
+  s.Get("min_range", c.min_range);
+  s.Get("max_range", c.max_range);
+  Section ri = s.Child("range_image");
+  ri.Get("rows", c.range_image.rows);
+  ri.Get("cols", c.range_image.cols);
+  ri.Get("max_inherit_distance", c.range_image.max_inherit_distance);
+  ri.RejectUnknownKeys();
+  Section n = s.Child("normals");
+  n.Get("min_incidence_deg", c.normals.min_incidence_deg);
+  n.Get("range_noise", c.normals.range_noise);
+  n.Get("min_tangent_sine", c.normals.min_tangent_sine);
+  n.RejectUnknownKeys();
+  Section k = s.Child("classifier");
+  k.Get("majority", c.classifier.majority);
+  k.Get("edge_angle_deg", c.classifier.edge_angle_deg);
+  k.Get("min_valid_normals", c.classifier.min_valid_normals);
+  k.Get("dominance", c.classifier.dominance);
+  k.Get("require_centre_normal", c.classifier.require_centre_normal);
+  k.RejectUnknownKeys();
+  s.RejectUnknownKeys();
+}
+
+void ReadDownsample(Section s, DownsampleConfig& c) {
+  s.Get("initial_voxel_unknown", c.initial_voxel_unknown);
+  s.Get("initial_voxel_ground", c.initial_voxel_ground);
+  s.Get("initial_voxel_roof", c.initial_voxel_roof);
+  s.Get("initial_voxel_wall", c.initial_voxel_wall);
+  s.Get("initial_voxel_edge", c.initial_voxel_edge);
+  s.Get("target_points", c.target_points);
+  s.Get("tolerance", c.tolerance);
+  s.Get("min_voxel", c.min_voxel);
+  s.Get("max_voxel", c.max_voxel);
+  s.Get("max_step", c.max_step);
+  s.RejectUnknownKeys();
+}
+
+void ReadMap(Section s, MapConfig& c) {
+  s.Get("voxel_size", c.voxel_size);
+  s.Get("auto_voxel_range_factor", c.auto_voxel_range_factor);
+  s.Get("auto_voxel_min", c.auto_voxel_min);
+  s.Get("auto_voxel_max", c.auto_voxel_max);
+  s.Get("max_points_per_voxel", c.max_points_per_voxel);
+  s.Get("max_distance", c.max_distance);
+  s.RejectUnknownKeys();
+}
+
+void ReadRegistration(Section s, RegistrationConfig& c) {
+  s.GetMode("mode", c.mode);
+  s.Get("max_iterations", c.max_iterations);
+  s.Get("convergence_criterion", c.convergence_criterion);
+  s.Get("initial_threshold", c.initial_threshold);
+  s.Get("min_motion_threshold", c.min_motion_threshold);
+  s.Get("degenerate_eigenvalue_ratio", c.degenerate_eigenvalue_ratio);
+  s.Get("remap_degenerate_directions", c.remap_degenerate_directions);
+  s.Get("min_correspondences", c.min_correspondences);
+  s.Get("covariance_regularisation", c.covariance_regularisation);
+  s.RejectUnknownKeys();
+}
+
+void Require(bool ok, const char* field, const std::string& what) {
+  if (!ok) throw ConfigError(std::string(field) + ": " + what);
+}
+
+}  // namespace
+
+OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
+  OdometryConfig config;
+  Section s(root, "");
+  ReadPreprocess(s.Child("preprocess"), config.preprocess);
+  ReadDownsample(s.Child("downsample"), config.downsample);
+  ReadMap(s.Child("map"), config.map);
+  ReadRegistration(s.Child("registration"), config.registration);
+  s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
+  s.Get("deskew", config.deskew);
+  s.Get("min_points", config.min_points);
+  s.Get("max_time_gap", config.max_time_gap);
+  s.RejectUnknownKeys();
+  ValidateOdometryConfig(config);
+  return config;
+}
+
+OdometryConfig LoadOdometryConfig(const std::filesystem::path& file) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(file.string() + ": cannot open");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file.string() + ": invalid YAML: " + e.what());
+  }
+  try {
+    return ParseOdometryConfig(root);
+  } catch (const ConfigError& e) {
+    throw ConfigError(file.string() + ": " + e.what());
+  }
+}
+
+void ValidateOdometryConfig(const OdometryConfig& c) {
+  const auto& p = c.preprocess;
+  Require(p.min_range >= 0.0, "preprocess.min_range", "must be >= 0");
+  Require(p.max_range > p.min_range, "preprocess.max_range", "must exceed min_range");
+  Require(p.range_image.rows >= 0, "preprocess.range_image.rows", "must be >= 0");
+  Require(p.range_image.cols >= 0, "preprocess.range_image.cols", "must be >= 0");
+  Require(p.range_image.max_inherit_distance >= 0.0, "preprocess.range_image.max_inherit_distance",
+          "must be >= 0");
+  Require(p.normals.min_incidence_deg > 0.0 && p.normals.min_incidence_deg < 90.0,
+          "preprocess.normals.min_incidence_deg", "must be in (0, 90)");
+  Require(p.normals.range_noise >= 0.0, "preprocess.normals.range_noise", "must be >= 0");
+  Require(p.normals.min_tangent_sine >= 0.0 && p.normals.min_tangent_sine < 1.0,
+          "preprocess.normals.min_tangent_sine", "must be in [0, 1)");
+  Require(p.classifier.majority > 0.0 && p.classifier.majority <= 1.0,
+          "preprocess.classifier.majority", "must be in (0, 1]");
+  Require(p.classifier.edge_angle_deg > 0.0 && p.classifier.edge_angle_deg < 180.0,
+          "preprocess.classifier.edge_angle_deg", "must be in (0, 180)");
+  Require(p.classifier.min_valid_normals >= 1 && p.classifier.min_valid_normals <= 9,
+          "preprocess.classifier.min_valid_normals", "must be in [1, 9]");
+  Require(p.classifier.dominance >= 1.0, "preprocess.classifier.dominance", "must be >= 1");
+  const auto& d = c.downsample;
+  for (const auto& [value, name] :
+       {std::pair{d.initial_voxel_unknown, "downsample.initial_voxel_unknown"},
+        std::pair{d.initial_voxel_ground, "downsample.initial_voxel_ground"},
+        std::pair{d.initial_voxel_roof, "downsample.initial_voxel_roof"},
+        std::pair{d.initial_voxel_wall, "downsample.initial_voxel_wall"},
+        std::pair{d.initial_voxel_edge, "downsample.initial_voxel_edge"}}) {
+    Require(value > 0.0, name, "must be > 0");
+  }
+  Require(d.target_points > 0, "downsample.target_points", "must be > 0");
+  Require(d.tolerance >= 0.0 && d.tolerance < 1.0, "downsample.tolerance", "must be in [0, 1)");
+  Require(d.min_voxel > 0.0, "downsample.min_voxel", "must be > 0");
+  Require(d.max_voxel >= d.min_voxel, "downsample.max_voxel", "must be >= min_voxel");
+  Require(d.max_step > 1.0, "downsample.max_step", "must be > 1");
+  const auto& m = c.map;
+  Require(m.voxel_size >= 0.0, "map.voxel_size", "must be >= 0 (0 = automatic)");
+  Require(m.auto_voxel_range_factor > 0.0, "map.auto_voxel_range_factor", "must be > 0");
+  Require(m.auto_voxel_min > 0.0, "map.auto_voxel_min", "must be > 0");
+  Require(m.auto_voxel_max >= m.auto_voxel_min, "map.auto_voxel_max", "must be >= auto_voxel_min");
+  Require(m.max_points_per_voxel >= 1, "map.max_points_per_voxel", "must be >= 1");
+  Require(m.max_distance > 0.0, "map.max_distance", "must be > 0");
+  const auto& r = c.registration;
+  Require(r.max_iterations >= 1, "registration.max_iterations", "must be >= 1");
+  Require(r.convergence_criterion > 0.0, "registration.convergence_criterion", "must be > 0");
+  Require(r.initial_threshold > 0.0, "registration.initial_threshold", "must be > 0");
+  Require(r.min_motion_threshold >= 0.0, "registration.min_motion_threshold", "must be >= 0");
+  Require(r.degenerate_eigenvalue_ratio >= 0.0 && r.degenerate_eigenvalue_ratio < 1.0,
+          "registration.degenerate_eigenvalue_ratio", "must be in [0, 1)");
+  Require(r.min_correspondences >= 6, "registration.min_correspondences", "must be >= 6");
+  Require(r.covariance_regularisation >= 0.0, "registration.covariance_regularisation",
+          "must be >= 0");
+  Require(c.map_frame_voxel_factor > 0.0, "map_frame_voxel_factor", "must be > 0");
+  Require(c.min_points >= 1, "min_points", "must be >= 1");
+  Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
+}
+
+}  // namespace dammloam::io
