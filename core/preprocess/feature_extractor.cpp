@@ -79,8 +79,8 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
   const std::vector<PointClass> pixel_labels = classifier_.Classify(normal_map, R_world_sensor);
   out.labels.assign(n, PointClass::Unknown);
   out.normals.assign(n, Eigen::Vector3f::Zero());
-  const double inherit2 = config_.range_image.max_inherit_distance *
-                          config_.range_image.max_inherit_distance;
+  const double inherit2 =
+      config_.range_image.max_inherit_distance * config_.range_image.max_inherit_distance;
   const auto& pixel_normals = normal_map.normals();
   const int cols = image.cols();
   for (std::size_t i = 0; i < n; ++i) {

@@ -26,9 +26,9 @@ struct NormalMapConfig {
 };
 
 struct ClassifierConfig {
-  double majority = 2.0 / 3.0;    // share of valid 3x3 normals voting for ground/roof/wall
-  double edge_angle_deg = 15.0;   // mean pairwise normal angle above which a pixel is an edge
-  int min_valid_normals = 4;      // of the 9 in the window; fewer -> Unknown
+  double majority = 2.0 / 3.0;   // share of valid 3x3 normals voting for ground/roof/wall
+  double edge_angle_deg = 15.0;  // mean pairwise normal angle above which a pixel is an edge
+  int min_valid_normals = 4;     // of the 9 in the window; fewer -> Unknown
   // A normal "has a dominant component k" when |n_k| >= dominance * every other |n_j|.
   // 1.0 is the paper's rule (the largest component wins).
   double dominance = 1.0;
@@ -48,7 +48,7 @@ struct DownsampleConfig {
   double tolerance = 0.05;           // relative band around the target with no update
   double min_voxel = 0.05;           // metres, clamp of every class's voxel size
   double max_voxel = 3.0;
-  double max_step = 2.0;             // largest change factor of the voxel sizes per scan
+  double max_step = 2.0;  // largest change factor of the voxel sizes per scan
 };
 
 struct PreprocessConfig {

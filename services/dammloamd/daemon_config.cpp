@@ -5,10 +5,7 @@
 #include <set>
 #include <stdexcept>
 
-#if __has_include("tools/common/config_yaml.hpp")
 #include "tools/common/config_yaml.hpp"
-#define DAMMLOAMD_HAVE_ODOMETRY_YAML 1
-#endif
 
 namespace dammloam::daemon {
 namespace {
@@ -114,11 +111,7 @@ FullConfig LoadConfig(const std::filesystem::path& file) {
     if (root && !root.IsMap()) Fail("<root>", "must be a map with sections dammloamd, odometry");
     RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry"});
     config.daemon = ParseDaemon(root["dammloamd"]);
-#ifdef DAMMLOAMD_HAVE_ODOMETRY_YAML
-    if (root["odometry"]) config.odometry = ParseOdometryConfig(root["odometry"]);
-#else
-    if (root["odometry"]) Fail("odometry", "cannot be parsed: this build lacks config_yaml");
-#endif
+    if (root["odometry"]) config.odometry = io::ParseOdometryConfig(root["odometry"]);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
   }

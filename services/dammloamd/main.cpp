@@ -8,6 +8,7 @@
 
 #include "services/dammloamd/daemon.hpp"
 #include "services/dds/network_guard.hpp"
+#include "tools/common/config_yaml.hpp"
 #include "tools/common/io_error.hpp"
 #include "tools/common/sequence_meta.hpp"
 
@@ -15,6 +16,7 @@ namespace {
 
 struct Options {
   std::string config_file;
+  std::string odometry_config_file;
   std::optional<std::uint32_t> domain;
   std::string sensor_meta;
   std::string points_topic;
@@ -28,6 +30,9 @@ struct Options {
 dammloam::daemon::FullConfig BuildConfig(const Options& o) {
   using namespace dammloam;
   daemon::FullConfig config = daemon::LoadConfig(o.config_file);
+  if (!o.odometry_config_file.empty()) {
+    config.odometry = io::LoadOdometryConfig(o.odometry_config_file);
+  }
   daemon::DaemonConfig& d = config.daemon;
   if (o.domain) d.domain = *o.domain;
   if (!o.sensor_meta.empty()) d.sensor_meta = o.sensor_meta;
@@ -49,6 +54,9 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"dammloamd: DAMM-LOAM LiDAR odometry daemon over Cyclone DDS"};
   app.add_option("--config", o.config_file, "YAML config (sections dammloamd, odometry)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--odometry-config", o.odometry_config_file,
+                 "odometry YAML (as dammloam-odometry --config); replaces the odometry section")
       ->check(CLI::ExistingFile);
   app.add_option("--domain", o.domain, "DDS domain id (overrides dammloamd.domain)");
   app.add_option("--sensor-meta", o.sensor_meta, "sensor from a sequence meta.json")

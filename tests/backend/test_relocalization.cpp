@@ -54,8 +54,14 @@ TEST(Relocalization, TwentyRandomPosesInASavedMap) {
     truth.linear() = truth.linear() *
                      Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const auto result = localizer.Relocalize(Rotated(test::DeskewedScan(simulator, index), yaw));
-    if (!result) continue;
+    if (!result) {
+      std::printf("  trial %2d scan %4d: not found\n", trial, index);
+      continue;
+    }
     const double error = (result->T_map_sensor.translation() - truth.translation()).norm();
+    std::printf("  trial %2d scan %4d: error %.3f m, inliers %.2f, rmse %.3f, sc %.3f, kf %u\n",
+                trial, index, error, result->inlier_ratio, result->rmse,
+                result->scan_context_distance, result->keyframe);
     worst = std::max(worst, error);
     if (error < 0.3) ++successes;
   }

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <map>
-#include <cmath>
 #include <numbers>
 
 #include "tests/core/lidar_raycast.hpp"
@@ -56,8 +56,7 @@ bool InteriorPixel(const RangeImage& image, const std::vector<int>& surfaces, in
   return true;
 }
 
-RoomLabels ClassifyRoom(const Eigen::Isometry3d& T_world_sensor,
-                        const Eigen::Matrix3d& R_given) {
+RoomLabels ClassifyRoom(const Eigen::Isometry3d& T_world_sensor, const Eigen::Matrix3d& R_given) {
   RoomLabels out;
   const SyntheticLidar lidar;
   out.scan = CastScan(lidar, BoxRoom(), T_world_sensor, &out.surfaces);
@@ -101,22 +100,21 @@ Eigen::Isometry3d SensorPose(const Eigen::Matrix3d& R) {
 }
 
 TEST(Classifier, BoxRoomFacesGetTheirClass) {
-  const RoomLabels room = ClassifyRoom(SensorPose(Eigen::Matrix3d::Identity()),
-                                       Eigen::Matrix3d::Identity());
+  const RoomLabels room =
+      ClassifyRoom(SensorPose(Eigen::Matrix3d::Identity()), Eigen::Matrix3d::Identity());
   const auto share = FaceAccuracy(room);
   for (int s = 0; s < 6; ++s) EXPECT_GT(share[s], 0.95) << "face " << s;
 }
 
 TEST(Classifier, WallWallCornersAreEdges) {
-  const RoomLabels room = ClassifyRoom(SensorPose(Eigen::Matrix3d::Identity()),
-                                       Eigen::Matrix3d::Identity());
+  const RoomLabels room =
+      ClassifyRoom(SensorPose(Eigen::Matrix3d::Identity()), Eigen::Matrix3d::Identity());
   // In every ring and for each of the four vertical corners, the wall point nearest to the
   // corner line (at mid height, away from floor and ceiling).
   const test::AlignedBox box = BoxRoom().room;
-  const std::array<Eigen::Vector2d, 4> corners = {Eigen::Vector2d(box.min.x(), box.min.y()),
-                                                  Eigen::Vector2d(box.min.x(), box.max.y()),
-                                                  Eigen::Vector2d(box.max.x(), box.min.y()),
-                                                  Eigen::Vector2d(box.max.x(), box.max.y())};
+  const std::array<Eigen::Vector2d, 4> corners = {
+      Eigen::Vector2d(box.min.x(), box.min.y()), Eigen::Vector2d(box.min.x(), box.max.y()),
+      Eigen::Vector2d(box.max.x(), box.min.y()), Eigen::Vector2d(box.max.x(), box.max.y())};
   std::map<std::pair<int, int>, std::pair<double, std::size_t>> nearest;  // (ring, corner)
   for (std::size_t i = 0; i < room.labels.size(); ++i) {
     const Eigen::Vector3d& p = room.world[i];
@@ -176,7 +174,9 @@ TEST(Classifier, PitchedFloorNeedsTheOrientation) {
 TEST(Classifier, WindowRules) {
   const Classifier classifier{ClassifierConfig{}};
   const Eigen::Vector3f up(0, 0, 1), down(0, 0, -1), side(0, 1, 0);
-  auto window = [](std::initializer_list<Eigen::Vector3f> n) { return std::vector<Eigen::Vector3f>(n); };
+  auto window = [](std::initializer_list<Eigen::Vector3f> n) {
+    return std::vector<Eigen::Vector3f>(n);
+  };
 
   // 6 of 9 up would make ground, but the 90 deg spread is an edge first (mean angle 45 deg).
   auto w = window({up, up, up, up, up, up, side, side, side});

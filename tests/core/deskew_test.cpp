@@ -26,14 +26,16 @@ MovingScan SampleWhileMoving(const Eigen::Isometry3d& T_start_end, bool with_tim
   const int n = 5000;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d q(coord(rng), coord(rng), coord(rng) * 0.2);
-    const Eigen::Vector3f normal = Eigen::Vector3f(float(coord(rng)), float(coord(rng)), 5.0f).normalized();
+    const Eigen::Vector3f normal =
+        Eigen::Vector3f(float(coord(rng)), float(coord(rng)), 5.0f).normalized();
     // Firing times in blocks of 16 (one column of a 16-beam sensor shares a time).
     const float t = static_cast<float>((i / 16) * 16) / n * static_cast<float>(kPeriod);
     const Eigen::Isometry3d T_start_t = ScaleMotion(T_start_end, t / kPeriod);
     out.start_points.push_back(q);
     out.start_normals.push_back(normal);
     out.scan.scan.points.push_back(T_start_t.inverse() * q);
-    out.scan.normals.push_back((T_start_t.linear().transpose() * normal.cast<double>()).cast<float>());
+    out.scan.normals.push_back(
+        (T_start_t.linear().transpose() * normal.cast<double>()).cast<float>());
     if (with_times) out.scan.scan.times.push_back(t);
   }
   out.scan.labels.assign(n, PointClass::Wall);
@@ -51,7 +53,8 @@ TEST(Deskew, RestoresTheStartFrameGivenTheTrueMotion) {
   // Without compensation the points are off by up to the scan's motion.
   double worst_before = 0.0;
   for (std::size_t i = 0; i < moving.start_points.size(); ++i) {
-    worst_before = std::max(worst_before, (moving.scan.scan.points[i] - moving.start_points[i]).norm());
+    worst_before =
+        std::max(worst_before, (moving.scan.scan.points[i] - moving.start_points[i]).norm());
   }
   EXPECT_GT(worst_before, 0.5);
   DeskewScan(moving.scan, Motion(), kPeriod);

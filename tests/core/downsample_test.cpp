@@ -23,11 +23,13 @@ LabelledPoints Cloud(unsigned seed, double shift = 0.0) {
     c.points.push_back(p + Eigen::Vector3d(shift, 0, 0));
     c.labels.push_back(label);
   };
-  for (int i = 0; i < 40000; ++i) add({40 * u(rng) - 20, 40 * u(rng) - 20, -1.5}, PointClass::Ground);
+  for (int i = 0; i < 40000; ++i)
+    add({40 * u(rng) - 20, 40 * u(rng) - 20, -1.5}, PointClass::Ground);
   for (int i = 0; i < 20000; ++i) add({40 * u(rng) - 20, 10.0, 6 * u(rng) - 1.5}, PointClass::Wall);
   for (int i = 0; i < 5000; ++i) add({30 * u(rng) - 15, 30 * u(rng) - 15, 3.0}, PointClass::Roof);
   for (int i = 0; i < 300; ++i) add({20.0, 10.0, 6 * u(rng) - 1.5}, PointClass::Edge);
-  for (int i = 0; i < 3000; ++i) add({20 * u(rng) - 10, 20 * u(rng) - 10, 3 * u(rng)}, PointClass::Unknown);
+  for (int i = 0; i < 3000; ++i)
+    add({20 * u(rng) - 10, 20 * u(rng) - 10, 3 * u(rng)}, PointClass::Unknown);
   return c;
 }
 
@@ -53,7 +55,7 @@ TEST(VoxelDownsample, OnePointPerVoxelFirstComeDeterministic) {
 TEST(ClassAwareDownsampler, KeepsOnePointPerVoxelPerClass) {
   DownsampleConfig config;
   config.target_points = 1000000;
-  config.max_step = 1.0;           // freeze the sizes
+  config.max_step = 1.0;  // freeze the sizes
   ClassAwareDownsampler sampler(config);
   // Two classes share one voxel: both survive.
   const std::vector<Eigen::Vector3d> points = {{0.1, 0.1, 0.1}, {0.2, 0.1, 0.1}, {0.15, 0.1, 0.1}};

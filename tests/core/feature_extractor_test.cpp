@@ -71,8 +71,8 @@ TEST(FeatureExtractor, InconsistentOptionalFieldsAreDiscarded) {
   const SyntheticLidar lidar;
   Scan scan = CastScan(lidar, Room(), Eigen::Isometry3d::Identity(), nullptr);
   scan.times.assign(10, 0.0f);
-  const ClassifiedScan out =
-      FeatureExtractor(PreprocessConfig{}, lidar.Model()).Extract(scan, Eigen::Matrix3d::Identity());
+  const ClassifiedScan out = FeatureExtractor(PreprocessConfig{}, lidar.Model())
+                                 .Extract(scan, Eigen::Matrix3d::Identity());
   EXPECT_TRUE(out.scan.times.empty());
   EXPECT_EQ(out.scan.rings.size(), out.scan.size());
   EXPECT_EQ(out.labels.size(), out.scan.size());
@@ -82,11 +82,11 @@ TEST(FeatureExtractor, LabelsAndNormalsOfARoom) {
   const SyntheticLidar lidar;
   std::vector<int> surfaces;
   const Scan scan = CastScan(lidar, Room(), Eigen::Isometry3d::Identity(), &surfaces);
-  const ClassifiedScan out =
-      FeatureExtractor(PreprocessConfig{}, lidar.Model()).Extract(scan, Eigen::Matrix3d::Identity());
+  const ClassifiedScan out = FeatureExtractor(PreprocessConfig{}, lidar.Model())
+                                 .Extract(scan, Eigen::Matrix3d::Identity());
   int right = 0;
   for (std::size_t i = 0; i < out.scan.size(); ++i) {
-    const PointClass expected = surfaces[i] == 4 ? PointClass::Ground
+    const PointClass expected = surfaces[i] == 4   ? PointClass::Ground
                                 : surfaces[i] == 5 ? PointClass::Roof
                                                    : PointClass::Wall;
     right += out.labels[i] == expected;
@@ -119,8 +119,8 @@ TEST(FeatureExtractor, PixelLosersInheritOnlyWhenClose) {
     scan.rings.push_back(scan.rings[i]);
     scan.intensities.push_back(0.0f);
   }
-  const ClassifiedScan out =
-      FeatureExtractor(PreprocessConfig{}, lidar.Model()).Extract(scan, Eigen::Matrix3d::Identity());
+  const ClassifiedScan out = FeatureExtractor(PreprocessConfig{}, lidar.Model())
+                                 .Extract(scan, Eigen::Matrix3d::Identity());
   for (std::size_t k = 0; k < near_of.size(); ++k) {
     const std::size_t winner = near_of[k];
     const std::size_t close = n + 2 * k, far = n + 2 * k + 1;
@@ -156,7 +156,8 @@ std::filesystem::path KittiDir() {
 Scan ReadKittiBin(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::vector<float> values(std::filesystem::file_size(file) / sizeof(float));
-  in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(float)));
+  in.read(reinterpret_cast<char*>(values.data()),
+          static_cast<std::streamsize>(values.size() * sizeof(float)));
   Scan scan;
   for (std::size_t i = 0; i + 3 < values.size(); i += 4) {
     scan.points.emplace_back(values[i], values[i + 1], values[i + 2]);
@@ -176,7 +177,8 @@ TEST(FeatureExtractor, KittiRoadBelowTheSensorIsGround) {
   hdl64.max_range = 120.0;
   const FeatureExtractor extractor(PreprocessConfig{}, hdl64);
   for (const char* name : {"000000.bin", "000003.bin"}) {
-    const ClassifiedScan out = extractor.Extract(ReadKittiBin(dir / name), Eigen::Matrix3d::Identity());
+    const ClassifiedScan out =
+        extractor.Extract(ReadKittiBin(dir / name), Eigen::Matrix3d::Identity());
     ASSERT_GT(out.scan.size(), 100000u);
     int road = 0, ground = 0;
     for (std::size_t i = 0; i < out.scan.size(); ++i) {

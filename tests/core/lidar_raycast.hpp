@@ -27,8 +27,8 @@ struct AlignedBox {
 
 struct Scene {
   bool has_room = false;
-  AlignedBox room;                  // seen from inside
-  std::vector<AlignedBox> solids;   // seen from outside
+  AlignedBox room;                      // seen from inside
+  std::vector<AlignedBox> solids;       // seen from outside
   std::vector<Eigen::Vector4d> planes;  // infinite planes n.x + d = 0, surface 20 + k
 
   Hit Cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
@@ -74,7 +74,9 @@ struct SyntheticLidar {
     return top_deg + (bottom_deg - top_deg) * ring / (rings - 1);
   }
   // Centre of column c in the RangeImage convention: column 0 starts at azimuth -pi.
-  double Azimuth(int col) const { return -std::numbers::pi + (col + 0.5) * 2 * std::numbers::pi / cols; }
+  double Azimuth(int col) const {
+    return -std::numbers::pi + (col + 0.5) * 2 * std::numbers::pi / cols;
+  }
   Eigen::Vector3d Direction(int ring, int col) const {
     const double el = ElevationDeg(ring) * std::numbers::pi / 180.0;
     const double az = Azimuth(col);

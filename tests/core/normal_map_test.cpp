@@ -29,8 +29,8 @@ struct PlaneResult {
 // Casts one infinite plane with an OS1-64-like sensor and checks every valid normal.
 PlaneResult CheckPlane(const Eigen::Vector3d& normal_towards_sensor, double offset) {
   Scene scene;
-  scene.planes.push_back({normal_towards_sensor.x(), normal_towards_sensor.y(),
-                          normal_towards_sensor.z(), offset});
+  scene.planes.push_back(
+      {normal_towards_sensor.x(), normal_towards_sensor.y(), normal_towards_sensor.z(), offset});
   const SyntheticLidar lidar;
   const Scan scan = CastScan(lidar, scene, Eigen::Isometry3d::Identity(), nullptr, 60.0);
   RangeImage image(RangeImageConfig{}, lidar.Model());

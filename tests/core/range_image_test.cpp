@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -40,7 +41,8 @@ TEST(RangeImage, RingAndColumnRaysLandInTheirPixel) {
     // Whoever owns the pixel is the nearest of the points that fell in it.
     EXPECT_LE(image.range(r, c), static_cast<float>(points[i].norm()));
     EXPECT_EQ(image.point(r, c), points[static_cast<std::size_t>(owner)]);
-    EXPECT_FLOAT_EQ(image.range(r, c), static_cast<float>(points[static_cast<std::size_t>(owner)].norm()));
+    EXPECT_FLOAT_EQ(image.range(r, c),
+                    static_cast<float>(points[static_cast<std::size_t>(owner)].norm()));
   }
 }
 
@@ -86,8 +88,10 @@ TEST(RangeImage, NearestWinsAndTiesGoToTheLowerIndex) {
 TEST(RangeImage, InvalidPointsAndNegativeRingsAreNotProjected) {
   const SyntheticLidar lidar;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<Eigen::Vector3d> points = {
-      {nan, 0, 0}, Eigen::Vector3d::Zero(), 3.0 * lidar.Direction(5, 5), 3.0 * lidar.Direction(6, 6)};
+  const std::vector<Eigen::Vector3d> points = {{nan, 0, 0},
+                                               Eigen::Vector3d::Zero(),
+                                               3.0 * lidar.Direction(5, 5),
+                                               3.0 * lidar.Direction(6, 6)};
   RangeImage image(RangeImageConfig{}, lidar.Model());
   image.Build(points, {5, 5, 5, -1});
   EXPECT_EQ(image.pixel_of(0), -1);
@@ -115,7 +119,8 @@ TEST(RangeImage, VerticalAnglesGiveTheNearestBeamRow) {
   lidar.top_deg = 15.0;
   lidar.bottom_deg = -15.0;
   SensorModel model = lidar.Model();
-  for (int r = lidar.rings - 1; r >= 0; --r) model.vertical_angles_deg.push_back(lidar.ElevationDeg(r));
+  for (int r = lidar.rings - 1; r >= 0; --r)
+    model.vertical_angles_deg.push_back(lidar.ElevationDeg(r));
   std::vector<Eigen::Vector3d> points;
   std::vector<int> expected;
   for (int r = 0; r < lidar.rings; ++r) {
@@ -128,7 +133,7 @@ TEST(RangeImage, VerticalAnglesGiveTheNearestBeamRow) {
     }
   }
   // Beyond the outermost beams: clamped to them.
-  points.push_back(5.0 * Eigen::Vector3d(1, 0, 1));   // 45 deg up
+  points.push_back(5.0 * Eigen::Vector3d(1, 0, 1));  // 45 deg up
   expected.push_back(0);
   points.push_back(5.0 * Eigen::Vector3d(1, 0, -1));  // 45 deg down
   expected.push_back(15);
@@ -160,6 +165,67 @@ TEST(RangeImage, UniformElevationBinsWithoutRingsOrAngles) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     ASSERT_EQ(image.pixel_of(i) / image.cols(), expected[i]) << "point " << i;
   }
+}
+
+// HDL-64-like beams (denser near the horizon) stored ring after ring like KITTI .bin files,
+// azimuth sweeping -pi..pi per ring: the wrap-arounds give the rows, where uniform elevation
+// bins would merge the dense beams. Stragglers across the seam must not start a ring.
+TEST(RangeImage, RingMajorOrderGivesTheRings) {
+  SyntheticLidar lidar;
+  lidar.rings = 64;
+  lidar.cols = 1024;
+  std::vector<double> elevation_deg;
+  for (int r = 0; r < 32; ++r) elevation_deg.push_back(2.0 - r / 3.0);
+  for (int r = 0; r < 32; ++r) elevation_deg.push_back(-8.83 - r / 2.0);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> expected;
+  for (int r = 0; r < 64; ++r) {
+    const double el = elevation_deg[static_cast<std::size_t>(r)] * std::numbers::pi / 180.0;
+    for (int c = 0; c < 2000; ++c) {
+      const double az = -std::numbers::pi + (c + 0.5) * 2.0 * std::numbers::pi / 2000;
+      points.push_back(20.0 * Eigen::Vector3d(std::cos(el) * std::cos(az),
+                                              std::cos(el) * std::sin(az), std::sin(el)));
+      expected.push_back(r);
+      if (r == 31 && c == 0) {  // a late point of ring 30 at azimuth ~+pi after ring 31 began
+        const double el30 = elevation_deg[30] * std::numbers::pi / 180.0;
+        points.push_back(20.0 * Eigen::Vector3d(-std::cos(el30), 1e-4, std::sin(el30)));
+        expected.push_back(30);
+      }
+    }
+  }
+  RangeImage image(RangeImageConfig{}, lidar.Model());
+  image.Build(points, {});
+  ASSERT_EQ(image.rows(), 64);
+  int wrong = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    wrong += image.pixel_of(i) / image.cols() != expected[i] ? 1 : 0;
+  }
+  EXPECT_LE(wrong, 1);  // at most the straggler, which lands in the ring it interrupts
+}
+
+TEST(RangeImage, ColumnMajorOrderFallsBackToElevationBins) {
+  SyntheticLidar lidar;  // firing order: column by column; azimuth wraps once
+  const Scan scan = [&] {
+    test::Scene scene;
+    scene.planes.push_back({0, 0, 1, 30.0});
+    scene.has_room = true;
+    scene.room = {{-10, -10, -3}, {10, 10, 3}};
+    return test::CastScan(lidar, scene, Eigen::Isometry3d::Identity(), nullptr);
+  }();
+  RangeImage image(RangeImageConfig{}, lidar.Model());
+  image.Build(scan.points, {});
+  ASSERT_EQ(image.rows(), 64);
+  for (std::size_t i = 0; i < scan.size(); i += 13) {
+    ASSERT_EQ(image.pixel_of(i) / image.cols(), scan.rings[i]) << "point " << i;
+  }
+}
+
+TEST(RangeImage, CorruptRingsAreNotProjected) {
+  RangeImage image(RangeImageConfig{}, SensorModel{});
+  image.Build({{1, 0, 0}, {0, 1, 0}}, {30000, 2});
+  EXPECT_EQ(image.rows(), 64);
+  EXPECT_EQ(image.pixel_of(0), -1);
+  EXPECT_GE(image.pixel_of(1), 0);
 }
 
 TEST(RangeImage, ConfigOverridesTheSensorGrid) {

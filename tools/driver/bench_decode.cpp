@@ -36,7 +36,7 @@ void Report(const std::string& name, std::size_t packets, int repeat, const std:
   }
   std::sort(seconds.begin(), seconds.end());
   const double median = seconds[seconds.size() / 2];
-  std::printf("%-28s %6zu packets %3zu scans  median %8.2f ms  %10.0f packets/s  %8.1f scans/s\n", name.c_str(),
+  std::printf("%-46s %6zu packets %3zu scans  median %8.2f ms  %10.0f packets/s  %8.1f scans/s\n", name.c_str(),
               packets, scans, median * 1e3, static_cast<double>(packets) / median, static_cast<double>(scans) / median);
 }
 
@@ -45,7 +45,14 @@ void BenchOuster(const fs::path& dir, const std::string& pcap, const std::string
   const auto meta = ouster::LoadMetadata(dir / json);
   const auto packets = LoadDatagrams(dir / pcap, meta.udp_port_lidar);
   const ouster::CloudMaker cloud(meta);
-  Report("ouster " + meta.prod_line + " " + std::string(ouster::Name(meta.profile)), packets.size(), repeat, [&] {
+  const std::string name = "ouster " + meta.prod_line + " " + std::string(ouster::Name(meta.profile));
+  Report(name + " frames", packets.size(), repeat, [&] {
+    ouster::PacketDecoder decoder(meta);
+    std::size_t scans = 0;
+    for (const auto& d : packets) scans += decoder.Push(d.payload).has_value();
+    return scans;
+  });
+  Report(name + " +xyz", packets.size(), repeat, [&] {
     ouster::PacketDecoder decoder(meta);
     std::size_t scans = 0, points = 0;
     for (const auto& d : packets) {

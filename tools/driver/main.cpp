@@ -26,6 +26,7 @@ struct CommonOptions {
   int udp_port = -1;
   std::string bind = "0.0.0.0";
   std::string to_sequence;
+  std::string write_meta;
   bool overwrite = false;
   std::optional<int> domain;
   std::string topic;
@@ -61,6 +62,7 @@ void AddCommon(CLI::App* app, CommonOptions& o) {
   pcap->excludes(udp);
   app->add_option("--bind", o.bind, "live mode: local IPv4 address to bind");
   app->add_option("--to-sequence", o.to_sequence, "write the scans as a sequence directory");
+  app->add_option("--write-meta", o.write_meta, "write the sensor description as meta.json (for dammloamd --sensor-meta)");
   app->add_flag("--overwrite", o.overwrite, "replace scans already in the --to-sequence directory");
   app->add_option("--domain", o.domain, "publish PointCloud on this DDS domain (default 0 when nothing else is asked)")
       ->check(CLI::Range(0, 232));
@@ -87,6 +89,7 @@ int Run(CommonOptions& c, std::uint16_t sensor_port, const SensorModel& model, c
     spdlog::error("give --pcap FILE or --udp-port PORT");
     return 1;
   }
+  if (!c.write_meta.empty()) io::WriteMeta(c.write_meta, io::SequenceMeta{sensor, model});
   const bool publish = c.domain.has_value() || !has_file_output;
   std::vector<std::unique_ptr<driver::ScanSink>> sinks;
   if (!c.to_sequence.empty()) {

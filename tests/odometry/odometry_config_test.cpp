@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include "tools/common/config_yaml.hpp"
+
+namespace dammloam {
+namespace {
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    io::ParseOdometryConfig(YAML::Load(yaml));
+  } catch (const io::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
+  const auto file = std::filesystem::path(DAMMLOAM_SOURCE_DIR) / "deploy/config/odometry.yaml";
+  const OdometryConfig loaded = io::LoadOdometryConfig(file);
+  const OdometryConfig defaults;
+  EXPECT_EQ(loaded.registration.mode, defaults.registration.mode);
+  EXPECT_EQ(loaded.registration.max_iterations, defaults.registration.max_iterations);
+  EXPECT_DOUBLE_EQ(loaded.registration.degenerate_eigenvalue_ratio,
+                   defaults.registration.degenerate_eigenvalue_ratio);
+  EXPECT_DOUBLE_EQ(loaded.map.voxel_size, defaults.map.voxel_size);
+  EXPECT_EQ(loaded.map.max_points_per_voxel, defaults.map.max_points_per_voxel);
+  EXPECT_EQ(loaded.downsample.target_points, defaults.downsample.target_points);
+  EXPECT_NEAR(loaded.preprocess.classifier.majority, defaults.preprocess.classifier.majority, 1e-6);
+  EXPECT_DOUBLE_EQ(loaded.preprocess.normals.min_incidence_deg,
+                   defaults.preprocess.normals.min_incidence_deg);
+  EXPECT_DOUBLE_EQ(loaded.max_time_gap, defaults.max_time_gap);
+}
+
+TEST(OdometryConfigYaml, ValuesAreRead) {
+  const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
+      "registration: {mode: plane_only, max_iterations: 7}\nmap: {voxel_size: 0.4}\n"
+      "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"));
+  EXPECT_EQ(c.registration.mode, RegistrationMode::kPlaneOnly);
+  EXPECT_EQ(c.registration.max_iterations, 7);
+  EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
+  EXPECT_DOUBLE_EQ(c.preprocess.classifier.edge_angle_deg, 20.0);
+  EXPECT_FALSE(c.deskew);
+  EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
+}
+
+TEST(OdometryConfigYaml, ErrorsNameTheKey) {
+  EXPECT_NE(ErrorOf("map: {voxle_size: 1}").find("map.voxle_size: unknown key"), std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {max_iterations: many}").find("registration.max_iterations"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {mode: icp}").find("registration.mode: unknown value 'icp'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("map: {max_distance: -5}").find("map.max_distance"), std::string::npos);
+  EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
+  EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
+}
+
+TEST(OdometryConfigYaml, MissingFileAndBadYamlNameTheFile) {
+  try {
+    io::LoadOdometryConfig("/nonexistent/odometry.yaml");
+    FAIL() << "no exception";
+  } catch (const io::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/odometry.yaml"), std::string::npos);
+  }
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("dammloam_cfg_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(file) << "map: {voxel_size: [\n";
+  EXPECT_THROW(io::LoadOdometryConfig(file), io::ConfigError);
+  std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace dammloam

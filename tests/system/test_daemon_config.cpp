@@ -1,0 +1,49 @@
+// dammloamd's YAML configuration: the shipped default loads, mistakes are named.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "services/dammloamd/daemon_config.hpp"
+#include "tests/system/sim_sequence.hpp"
+
+namespace dammloam::daemon {
+namespace {
+
+std::string LoadError(const std::string& yaml) {
+  const auto dir = test::TestDir("config");
+  const auto file = dir / "bad.yaml";
+  std::ofstream(file) << yaml;
+  try {
+    ValidateDaemonConfig(LoadConfig(file).daemon);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DaemonConfig, ShippedDefaultConfigLoadsAndValidates) {
+  const FullConfig config =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
+  EXPECT_NO_THROW(ValidateDaemonConfig(config.daemon));
+  EXPECT_EQ(config.daemon.topics.points, "dammloam_points");
+  EXPECT_EQ(config.daemon.sensor.rings, 64);
+  EXPECT_EQ(config.daemon.max_backlog, 1u);
+}
+
+TEST(DaemonConfig, MistakesAreReportedWithTheKey) {
+  EXPECT_NE(LoadError("dammloamd:\n  domian: 3\n").find("'dammloamd.domian' is not a known key"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  queues:\n    capacity: many\n")
+                .find("'dammloamd.queues.capacity' has the wrong type"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  queues:\n    capacity: 2\n    max_backlog: 1\n")
+                .find("'dammloamd.queues.capacity' must be at least max_backlog + 2"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  sensor:\n    rings: 0\n").find("dammloamd.sensor.rings"),
+            std::string::npos);
+  EXPECT_NE(LoadError("odometry:\n  no_such_section: 1\n").find("no_such_section"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace dammloam::daemon
