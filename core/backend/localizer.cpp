@@ -9,7 +9,7 @@ Localizer::Localizer(const MapData& map, const LocalizerConfig& config)
       scan_context_(map.scan_context),
       database_(ScanContextDatabaseConfig{0, config.num_candidates, 1,
                                           config.max_scan_context_distance}),
-      target_(map.global_points, static_cast<int>(config.normal_neighbours)) {
+      target_(map.global_points, config.normal_neighbours) {
   for (const Keyframe& kf : map.keyframes) {
     keyframe_poses_.push_back(kf.T_world_sensor);
     // Saved descriptors are used as they are; recompute when a keyframe carries none.
@@ -18,24 +18,24 @@ Localizer::Localizer(const MapData& map, const LocalizerConfig& config)
   }
 }
 
-bool Localizer::Good(const IcpResult& r) const {
-  return r.inlier_ratio >= config_.min_inlier_ratio && r.rmse <= config_.max_rmse;
-}
-
 std::optional<LocalizationResult> Localizer::Relocalize(
     const std::vector<Eigen::Vector3d>& points) const {
   if (database_.size() == 0 || target_.size() == 0) return std::nullopt;
   const ScanContext descriptor = MakeScanContext(points, scan_context_);
   const std::vector<Eigen::Vector3d> source = VoxelDownsample(points, config_.scan_voxel_size);
   std::optional<LocalizationResult> best;
+  int registrations = 0;
   for (const ScanContextCandidate& c :
        database_.Query(descriptor, 0, config_.max_scan_context_distance)) {
+    if (registrations++ >= config_.max_registrations) break;
     Eigen::Isometry3d T_kf_sensor = Eigen::Isometry3d::Identity();
     T_kf_sensor.linear() =
         Eigen::AngleAxisd(c.match.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const IcpResult r = AlignPointToPlane(source, target_, keyframe_poses_[c.id] * T_kf_sensor,
                                           config_.relocalize_icp);
-    if (!Good(r) || (best && r.inlier_ratio <= best->inlier_ratio)) continue;
+    const bool good = r.inlier_ratio >= config_.relocalize_min_inlier_ratio &&
+                      r.rmse <= config_.relocalize_max_rmse;
+    if (!good || (best && r.inlier_ratio <= best->inlier_ratio)) continue;
     best = LocalizationResult{r.T_target_source, r.inlier_ratio, r.rmse, c.id, c.match.distance};
   }
   return best;
@@ -48,7 +48,9 @@ std::optional<LocalizationResult> Localizer::Track(
   const std::vector<Eigen::Vector3d> source = VoxelDownsample(points, config_.scan_voxel_size);
   const IcpResult r = AlignPointToPlane(source, target_, T_map_sensor_predicted,
                                         config_.track_icp);
-  if (!Good(r)) return std::nullopt;
+  if (r.inlier_ratio < config_.track_min_inlier_ratio || r.rmse > config_.track_max_rmse) {
+    return std::nullopt;
+  }
   return LocalizationResult{r.T_target_source, r.inlier_ratio, r.rmse, 0, 0.0};
 }
 

@@ -11,14 +11,19 @@
 namespace dammloam::backend {
 
 struct LocalizerConfig {
-  int num_candidates = 5;           // Scan Context candidates tried by Relocalize
+  int num_candidates = 10;          // ring-key neighbours re-ranked by Scan Context distance
+  int max_registrations = 5;        // best-ranked candidates verified by ICP in Relocalize
   double max_scan_context_distance = 0.45;
   double scan_voxel_size = 0.5;     // query scans are downsampled to this before ICP
-  double normal_neighbours = 10;
+  int normal_neighbours = 10;
   IcpConfig relocalize_icp{40, 3.0, 0.6, 0.3, 1e-4};
   IcpConfig track_icp{20, 1.0, 0.5, 0.3, 1e-4};
-  double min_inlier_ratio = 0.5;
-  double max_rmse = 0.15;           // metres
+  // Relocalization has no prior, so it demands a near-complete, tight overlap: a look-alike
+  // place registers with ~50% overlap and ~0.1 m residual in the simulated outdoor scene.
+  double relocalize_min_inlier_ratio = 0.75;
+  double relocalize_max_rmse = 0.08;  // metres
+  double track_min_inlier_ratio = 0.5;
+  double track_max_rmse = 0.15;       // metres
 };
 
 struct LocalizationResult {
@@ -49,7 +54,6 @@ class Localizer {
   std::size_t NumMapPoints() const { return target_.size(); }
 
  private:
-  bool Good(const IcpResult& r) const;
 
   LocalizerConfig config_;
   ScanContextConfig scan_context_;

@@ -53,6 +53,10 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
                           config_.min_inlier_ratio);
   } else if (best.rmse > config_.max_rmse) {
     event.reason = Format("residual %.3f m above %.3f m", best.rmse, config_.max_rmse);
+  } else if (best.translation_observability < config_.min_translation_observability) {
+    event.reason = Format("degenerate geometry: translation observability %.4f below %.4f",
+                          best.translation_observability,
+                          config_.min_translation_observability);
   } else if (event.odometry_disagreement > drift_budget) {
     event.reason = Format("disagrees with odometry by %.2f m (drift budget %.2f m)",
                           event.odometry_disagreement, drift_budget);

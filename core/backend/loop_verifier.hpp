@@ -16,6 +16,8 @@ struct LoopVerifierConfig {
   double drift_per_metre = 0.05;
   double drift_offset = 1.0;             // metres
   int normal_neighbours = 10;
+  // Below this the registration cannot fix some translation direction (corridor): reject.
+  double min_translation_observability = 0.01;
 };
 
 // Registers a Scan Context candidate pair with point-to-plane ICP and decides whether it is a

@@ -112,6 +112,7 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
   // Quality: overlap and residual after alignment.
   std::size_t inliers = 0;
   double sum_squared = 0.0;
+  Eigen::Matrix3d normal_scatter = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& s : source) {
     const Eigen::Vector3d p = result.T_target_source * s;
     std::uint32_t index = 0;
@@ -122,11 +123,17 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     }
     const Eigen::Vector3d& n = target.normals()[index];
     const double r = n.isZero() ? std::sqrt(squared) : n.dot(p - target.tree().points()[index]);
+    normal_scatter += n * n.transpose();
     sum_squared += r * r;
     ++inliers;
   }
   result.inlier_ratio = static_cast<double>(inliers) / static_cast<double>(source.size());
   result.rmse = inliers > 0 ? std::sqrt(sum_squared / static_cast<double>(inliers)) : 0.0;
+  if (inliers > 0) {
+    result.translation_observability =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(normal_scatter / static_cast<double>(inliers))
+            .eigenvalues()(0);
+  }
   return result;
 }
 

@@ -38,6 +38,9 @@ struct IcpResult {
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
   double inlier_ratio = 0.0;  // share of source points within inlier_distance after alignment
   double rmse = 0.0;          // point-to-plane residual RMS over those inliers, metres
+  // Smallest eigenvalue of sum(n n^T) / inliers over the inlier normals: near 0 when some
+  // translation direction is unconstrained (a featureless corridor), at most 1/3.
+  double translation_observability = 0.0;
   int iterations = 0;
   bool converged = false;
 };

@@ -183,7 +183,7 @@ PoseGraphSummary PoseGraph::Optimize() {
         worst = &e;
       }
     }
-    if (worst == nullptr) break;
+    if (worst == nullptr || summary.rejected_loops >= config_.max_prune_rounds) break;
     worst->active = false;
     ++summary.rejected_loops;
   }

@@ -16,6 +16,7 @@ struct PoseGraphConfig {
   // After optimising, a loop still disagreeing by more than this (whitened norm) is switched
   // off and the graph re-solved without it, so a false loop keeps no pull on the map at all.
   double loop_prune_threshold = 10.0;
+  int max_prune_rounds = 3;  // each round re-solves the graph, worst loop first
   int max_iterations = 100;
   // Floors on odometry edge standard deviations: registration covariances are often far too
   // confident, which would leave loop edges nothing to correct.

@@ -13,7 +13,7 @@ ScanContext MakeScanContext(const std::vector<Eigen::Vector3d>& points_sensor,
   const double two_pi = 2.0 * std::numbers::pi;
   for (const Eigen::Vector3d& p : points_sensor) {
     if (!p.allFinite()) continue;
-    const double range = std::hypot(p.x(), p.y());
+    const double range = std::sqrt(p.x() * p.x() + p.y() * p.y());  // hypot is ~10x slower
     if (range <= 1e-3 || range >= config.max_range) continue;
     double azimuth = std::atan2(p.y(), p.x());
     if (azimuth < 0.0) azimuth += two_pi;

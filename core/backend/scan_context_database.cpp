@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <nanoflann.hpp>
+#include <stdexcept>
 
 namespace dammloam::backend {
 
@@ -29,6 +30,11 @@ ScanContextDatabase::ScanContextDatabase(ScanContextDatabase&&) noexcept = defau
 ScanContextDatabase& ScanContextDatabase::operator=(ScanContextDatabase&&) noexcept = default;
 
 std::uint32_t ScanContextDatabase::Add(const ScanContext& descriptor) {
+  if (descriptor.empty() ||
+      (!descriptors_.empty() && descriptor.ring_key.size() != descriptors_.front().ring_key.size())) {
+    throw std::invalid_argument("ScanContextDatabase::Add: descriptor is empty or was made with "
+                                "a different ring count than the stored ones");
+  }
   descriptors_.push_back(descriptor);
   return static_cast<std::uint32_t>(descriptors_.size() - 1);
 }
@@ -61,6 +67,8 @@ std::vector<ScanContextCandidate> ScanContextDatabase::Query(const ScanContext& 
                                                              double max_distance) const {
   const std::size_t excluded = static_cast<std::size_t>(std::max(0, exclude_recent));
   if (query.empty() || descriptors_.size() <= excluded) return {};
+  // Descriptors made under another config are not comparable (and would overrun the tree).
+  if (query.ring_key.size() != descriptors_.front().ring_key.size()) return {};
   const std::size_t searchable = descriptors_.size() - excluded;
   RebuildIfStale(searchable);
 

@@ -28,7 +28,8 @@ class ScanContextDatabase {
   ScanContextDatabase(ScanContextDatabase&&) noexcept;
   ScanContextDatabase& operator=(ScanContextDatabase&&) noexcept;
 
-  // Appends a descriptor; its id is the previous size().
+  // Appends a descriptor; its id is the previous size(). Throws std::invalid_argument for an
+  // empty descriptor or one whose ring count differs from the stored ones.
   std::uint32_t Add(const ScanContext& descriptor);
   std::size_t size() const { return descriptors_.size(); }
   const ScanContext& at(std::uint32_t id) const { return descriptors_.at(id); }

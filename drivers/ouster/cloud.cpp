@@ -47,7 +47,8 @@ Scan CloudMaker::ToScan(const LidarFrame& f) const {
   if (f.rows != rows_ || f.cols != cols_) return scan;
   std::uint64_t t0 = std::numeric_limits<std::uint64_t>::max();
   for (int c = 0; c < cols_; ++c) {
-    if (f.column_received[static_cast<std::size_t>(c)] != 0) t0 = std::min(t0, f.timestamp[static_cast<std::size_t>(c)]);
+    const auto cu = static_cast<std::size_t>(c);
+    if (f.column_received[cu] != 0 && ColumnValid(profile_, f.status[cu])) t0 = std::min(t0, f.timestamp[cu]);
   }
   if (t0 == std::numeric_limits<std::uint64_t>::max()) return scan;
   scan.t_start = static_cast<double>(t0) * 1e-9;

@@ -77,7 +77,8 @@ std::optional<LidarFrame> PacketDecoder::Push(std::span<const std::uint8_t> pack
     frame_id = LoadLE<std::uint16_t>(p + 2);
   }
 
-  if (last_emitted_id_ && *last_emitted_id_ == frame_id && !frame_open_) {
+  // A straggler of the frame just emitted must not cut the next frame short.
+  if (last_emitted_id_ && *last_emitted_id_ == frame_id) {
     diag_.Count("late_packets", "packet for frame " + std::to_string(frame_id) + " after it was complete; ignored");
     return std::nullopt;
   }

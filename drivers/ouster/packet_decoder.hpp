@@ -27,7 +27,8 @@ bool ColumnValid(Profile profile, std::uint64_t status);
 
 // Turns lidar packets into frames, assembled by frame id. A frame is returned as soon as
 // every column of the column window has arrived; a frame left incomplete when the next one
-// starts (or at Flush) is dropped and counted, never returned.
+// starts (or at Flush) is dropped and counted, never returned. Packets are expected in frame
+// order (a direct link does not reorder); a late packet of the frame just emitted is ignored.
 class PacketDecoder {
  public:
   explicit PacketDecoder(Metadata meta);

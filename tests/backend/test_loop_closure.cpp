@@ -100,6 +100,38 @@ TEST(LoopClosure, RepetitiveCorridorGivesNoAcceptedFalseLoop) {
   }
 }
 
+// A corridor driven to a U-turn and back along the other side: loops are seen facing the
+// other way (yaw ~180 deg), and the corridor leaves the along-axis translation weakly observed.
+TEST(LoopClosure, CorridorReturnAcceptsOnlyTrueLoops) {
+  const sim::Simulator simulator(sim::SceneKind::CorridorReturn, test::TestSensor());
+  const int stride = 10;
+  const SimRun run = MakeSimRun(simulator, 60, stride, DriftModel{0.002, 0.02});
+  BackendConfig config;
+  config.scan_context.max_range = 30.0;
+  config.scan_context.sensor_height = 1.2;
+  config.database.exclude_recent = 10;
+  LoopClosingBackend backend(config);
+  const Outcome outcome = RunBackendThreaded(backend, run);
+  std::vector<Eigen::Isometry3d> odometry;
+  for (const auto& r : run.odometry) odometry.push_back(r.T_world_sensor);
+  const double before = PositionRmse(odometry, run.truth);
+  const double after = PositionRmse(outcome.corrected, run.truth);
+  std::printf("corridor-return: %zu keyframes, %zu candidates, %zu accepted; APE RMSE odometry"
+              " %.3f m, with loop closure %.3f m\n",
+              backend.NumKeyframes(), outcome.events.size(), CountAccepted(outcome.events), before,
+              after);
+  for (const LoopEvent& e : outcome.events) {
+    const Eigen::Isometry3d T_true = run.truth[e.candidate_scan_index / stride].inverse() *
+                                     run.truth[e.query_scan_index / stride];
+    const double error = (T_true.translation() - e.T_candidate_query.translation()).norm();
+    std::printf("  %3u -> %3u sc %.3f inliers %.2f rmse %.3f error %.2f m: %s\n",
+                e.query_keyframe, e.candidate_keyframe, e.scan_context_distance, e.inlier_ratio,
+                e.rmse, error, e.reason.c_str());
+    if (e.accepted) EXPECT_LT(error, 0.3);
+  }
+  EXPECT_LE(after, before + 1e-6);
+}
+
 TEST(LoopClosure, UnknownScanHasNoCorrectedPose) {
   LoopClosingBackend backend;
   EXPECT_FALSE(backend.CorrectedPoseOf(7).has_value());

@@ -336,5 +336,22 @@ TEST(OusterFrames, DualProfileSecondReturnAddsPoints) {
   EXPECT_EQ(both.size(), first.size() + second);
 }
 
+TEST(OusterFrames, StragglerPacketDoesNotBreakTheNextFrame) {
+  const auto pcap = OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  DAMMLOAM_REQUIRE_DATA(pcap);
+  const Metadata meta = LoadMetadata(OusterDir() / "OS-1-128_v2.3.0_1024x10.json");
+  std::vector<std::vector<std::uint8_t>> packets;
+  PcapReader reader(pcap, PcapFilter{meta.udp_port_lidar});
+  for (UdpDatagram d; reader.Next(d);) packets.push_back(d.payload);
+  ASSERT_EQ(packets.size(), 192u);
+  // Frame 1795's last packet arrives again after frame 1796 has started.
+  packets.insert(packets.begin() + 65, packets[63]);
+  PacketDecoder decoder(meta);
+  std::size_t frames = 0;
+  for (const auto& p : packets) frames += decoder.Push(p).has_value();
+  EXPECT_EQ(frames, 3u) << decoder.diagnostics().Summary();
+  EXPECT_EQ(decoder.diagnostics().Get("late_packets"), 1u);
+}
+
 }  // namespace
 }  // namespace dammloam::drivers::ouster

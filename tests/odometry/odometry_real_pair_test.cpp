@@ -26,7 +26,9 @@ Scan ReadBinaryXyziPcd(const std::filesystem::path& file) {
   std::string line;
   std::size_t points = 0;
   while (std::getline(in, line)) {
-    if (line.rfind("FIELDS", 0) == 0) EXPECT_EQ(line, "FIELDS x y z intensity") << file;
+    if (line.rfind("FIELDS", 0) == 0) {
+      EXPECT_EQ(line, "FIELDS x y z intensity") << file;
+    }
     if (line.rfind("POINTS", 0) == 0) points = std::stoul(line.substr(7));
     if (line.rfind("DATA", 0) == 0) {
       EXPECT_EQ(line, "DATA binary") << file;

@@ -212,6 +212,22 @@ TEST(Simulator, CorridorReturnComesBackTheOtherWay) {
   EXPECT_LT(start.linear().col(0).dot(end.linear().col(0)), -0.95);  // facing the other way
 }
 
+// Ground truth must be smooth everywhere, including at the very first scan (t = t0).
+TEST(Simulator, TrajectoryIsSmoothFromTheStart) {
+  for (const std::string& name : SceneNames()) {
+    const Simulator sim(*ParseSceneKind(name), SmallOs1(), Options(0.0));
+    const double speed = DefaultSpeed(sim.kind());
+    constexpr double kDt = 0.002;
+    Eigen::Isometry3d prev = sim.PoseAt(sim.options().t0 - kDt);
+    for (double t = 0.0; t < 0.3; t += kDt) {
+      const Eigen::Isometry3d T = sim.PoseAt(sim.options().t0 + t);
+      ASSERT_LT((T.translation() - prev.translation()).norm(), 2.0 * speed * kDt) << name << " t " << t;
+      ASSERT_LT(Eigen::AngleAxisd(prev.linear().transpose() * T.linear()).angle(), 0.01) << name << " t " << t;
+      prev = T;
+    }
+  }
+}
+
 // --- Motion distortion: deskewing with the ground truth must make neighbour scans agree. ---
 
 struct Cloud {

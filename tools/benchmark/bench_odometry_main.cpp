@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tools/benchmark/sim_run.hpp"
+#include "tools/common/config_yaml.hpp"
 
 namespace {
 
@@ -51,11 +52,12 @@ void PrintPerScan(const dammloam::bench::SimSequence& seq, const RunSummary& run
     const Eigen::Isometry3d est = run.estimate[i - 1].T.inverse() * run.estimate[i].T;
     const Eigen::Vector3d e = (gt.inverse() * est).translation();
     std::printf("    %3zu %-12s it %2d corr %5u alpha %.2f  gt dt (%6.3f %6.3f %6.3f)  err (%6.3f "
-                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f)\n",
+                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f) classes u%u g%u r%u w%u e%u\n",
                 i, std::string(dammloam::Name(r.status)).c_str(), r.iterations,
                 r.num_correspondences, r.alpha, gt.translation().x(), gt.translation().y(),
                 gt.translation().z(), e.x(), e.y(), e.z(), r.degeneracy.eigenvalues[0],
-                r.degeneracy.eigenvalues[1], r.degeneracy.eigenvalues[2]);
+                r.degeneracy.eigenvalues[1], r.degeneracy.eigenvalues[2], r.class_counts[0],
+                r.class_counts[1], r.class_counts[2], r.class_counts[3], r.class_counts[4]);
   }
 }
 
@@ -68,6 +70,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> sensors{"os1-64", "vlp-16"};
   std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy", "full"};
   std::string json_path;
+  std::string config_path;
+  app.add_option("--config", config_path, "odometry YAML config (the mode is overridden)");
   std::uint64_t seed = 1;
   bool per_scan = false;
   bool no_remap = false;
@@ -80,6 +84,13 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "simulator seed");
   app.add_option("--json", json_path, "write all numbers to this JSON file");
   CLI11_PARSE(app, argc, argv);
+  dammloam::OdometryConfig base_config;
+  try {
+    if (!config_path.empty()) base_config = dammloam::io::LoadOdometryConfig(config_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
 
   nlohmann::json report = nlohmann::json::array();
   for (const std::string& scene_name : scenes) {
@@ -103,7 +114,7 @@ int main(int argc, char** argv) {
           std::fprintf(stderr, "error: unknown mode '%s'\n", mode_name.c_str());
           return 2;
         }
-        dammloam::OdometryConfig config;
+        dammloam::OdometryConfig config = base_config;
         config.registration.mode = *mode;
         if (no_remap) config.registration.remap_degenerate_directions = false;
         runs.push_back(dammloam::bench::RunPipeline(sequence, config));

@@ -43,7 +43,9 @@ Path::State Path::At(double s, bool wrap) const {
     s = std::fmod(s, total_length_);
     if (s < 0.0) s += total_length_;
   }
-  s = std::clamp(s, 0.0, total_length_);
+  // Beyond either end the path continues straight, so motion stays smooth at the start.
+  if (s < 0.0) return Advance(start_, 0.0, s);
+  if (s > total_length_) return Advance(End(), 0.0, s - total_length_);
   const auto it = std::upper_bound(segments_.begin(), segments_.end(), s,
                                    [](double v, const Segment& seg) { return v < seg.s_start; });
   const Segment& seg = *std::prev(it);

@@ -20,7 +20,8 @@ class Path {
   Path& Arc(double radius, double angle);
 
   double length() const { return total_length_; }
-  // s is clamped to [0, length()] unless `wrap`, which repeats a closed path.
+  // Outside [0, length()] the path extends straight along its end headings, unless `wrap`,
+  // which repeats a closed path.
   State At(double s, bool wrap = false) const;
 
  private:
