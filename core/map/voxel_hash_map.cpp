@@ -27,20 +27,27 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
   RemoveFarVoxels(T_world_sensor.translation());
 }
 
+const Eigen::Vector3d& VoxelHashMap::VoxelBlock::AnyPosition() const {
+  for (const auto& points : by_class) {
+    if (!points.empty()) return points.front().position;
+  }
+  return by_class[0].front().position;  // unreachable: blocks are never empty
+}
+
 void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
+  if (max_points_per_voxel_ < 1) return;  // would leave empty voxels behind
   for (const MapPoint& p : points) {
     VoxelBlock& block = map_[PointToVoxel(p.position, voxel_size_)];
-    auto& count = block.counts[Index(p.label)];
-    if (static_cast<int>(count) >= max_points_per_voxel_) continue;
-    ++count;
-    block.points.push_back(p);
+    auto& same_class = block.by_class[Index(p.label)];
+    if (static_cast<int>(same_class.size()) >= max_points_per_voxel_) continue;
+    same_class.push_back(p);
   }
 }
 
 void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   const double max_sq = max_distance_ * max_distance_;
   for (auto it = map_.begin(); it != map_.end();) {
-    const Eigen::Vector3d& p = it->second.points.front().position;
+    const Eigen::Vector3d& p = it->second.AnyPosition();
     if ((p - origin).squaredNorm() > max_sq) {
       it = map_.erase(it);
     } else {
@@ -59,12 +66,14 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
       for (int dz = -1; dz <= 1; ++dz) {
         const auto it = map_.find(centre + Voxel(dx, dy, dz));
         if (it == map_.end()) continue;
-        for (const MapPoint& p : it->second.points) {
-          if (label && p.label != *label) continue;
-          const double d_sq = (p.position - query).squaredNorm();
-          if (d_sq < best_sq) {
-            best_sq = d_sq;
-            best = &p;
+        for (std::size_t c = 0; c < kNumPointClasses; ++c) {
+          if (label && c != Index(*label)) continue;
+          for (const MapPoint& p : it->second.by_class[c]) {
+            const double d_sq = (p.position - query).squaredNorm();
+            if (d_sq < best_sq) {
+              best_sq = d_sq;
+              best = &p;
+            }
           }
         }
       }
@@ -76,13 +85,17 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
 std::vector<MapPoint> VoxelHashMap::Points() const {
   std::vector<MapPoint> out;
   out.reserve(NumPoints());
-  for (const auto& [voxel, block] : map_) out.insert(out.end(), block.points.begin(), block.points.end());
+  for (const auto& [voxel, block] : map_) {
+    for (const auto& points : block.by_class) out.insert(out.end(), points.begin(), points.end());
+  }
   return out;
 }
 
 std::size_t VoxelHashMap::NumPoints() const {
   std::size_t n = 0;
-  for (const auto& [voxel, block] : map_) n += block.points.size();
+  for (const auto& [voxel, block] : map_) {
+    for (const auto& points : block.by_class) n += points.size();
+  }
   return n;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <tsl/robin_map.h>
 #include <vector>
@@ -46,9 +47,10 @@ class VoxelHashMap {
   double max_distance() const { return max_distance_; }
 
  private:
+  // Points kept per class so a class-wise query scans only its own class.
   struct VoxelBlock {
-    std::vector<MapPoint> points;
-    ClassCounts counts{};
+    std::array<std::vector<MapPoint>, kNumPointClasses> by_class;
+    const Eigen::Vector3d& AnyPosition() const;
   };
   double voxel_size_;
   double max_distance_;

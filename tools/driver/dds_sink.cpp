@@ -1,5 +1,6 @@
 #include "tools/driver/dds_sink.hpp"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "services/dds/dds.hpp"
@@ -18,9 +19,14 @@ class DdsSink : public ScanSink {
                o.topic.empty() ? dds::TopicNames{}.points : o.topic, dds::PointsQos()),
         writer_(participant_, topic_, dds::PointsQos()),
         frame_id_(o.frame_id),
+        wait_for_subscriber_s_(o.wait_for_subscriber_s),
         description_("DDS topic " + topic_.name() + " on domain " + std::to_string(o.domain)) {}
 
   void Consume(const Scan& scan) override {
+    if (seq_ == 0 && wait_for_subscriber_s_ > 0.0) {
+      // Volatile samples written before discovery completes are lost: let a reader match first.
+      writer_.WaitForReaders(1, std::chrono::milliseconds(static_cast<long>(wait_for_subscriber_s_ * 1000)));
+    }
     const dds::CloudMessage message = dds::ScanToCloud(scan, frame_id_, seq_++);
     const dds::CloudView view(message);
     writer_.Write(view.get());
@@ -32,6 +38,7 @@ class DdsSink : public ScanSink {
   dds::Topic topic_;
   dds::Writer<dammloam_msg_PointCloud> writer_;
   std::string frame_id_;
+  double wait_for_subscriber_s_;
   std::string description_;
   std::uint64_t seq_ = 0;
 };

@@ -11,6 +11,7 @@ struct DdsOptions {
   std::string topic;          // empty = the project's default points topic
   std::string frame_id = "lidar";
   bool allow_default_network = false;
+  double wait_for_subscriber_s = 0.0;  // before the first sample: wait this long for a reader
 };
 
 // Whether this build can publish on DDS (dammloam_dds was available).

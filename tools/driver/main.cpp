@@ -32,6 +32,7 @@ struct CommonOptions {
   std::string topic;
   std::string frame_id = "lidar";
   bool allow_default_network = false;
+  double wait_for_subscriber = 0.0;
   double rate = -1.0;  // -1: recorded rate when publishing, as fast as possible otherwise
   std::size_t max_scans = 0;
   double idle_timeout = 0.0;
@@ -69,6 +70,8 @@ void AddCommon(CLI::App* app, CommonOptions& o) {
   app->add_option("--topic", o.topic, "DDS topic (default: the daemon's points topic)");
   app->add_option("--frame-id", o.frame_id, "frame_id of published clouds");
   app->add_flag("--allow-default-network", o.allow_default_network, "allow DDS without CYCLONEDDS_URI");
+  app->add_option("--wait-for-subscriber", o.wait_for_subscriber,
+                  "before publishing the first scan, wait up to this many seconds for a reader");
   app->add_option("--rate", o.rate, "pcap replay speed (1 = recorded rate, 0 = as fast as possible)")
       ->check(CLI::Range(0.0, 1000.0));
   app->add_option("--max-scans", o.max_scans, "stop after this many scans (0 = no limit)");
@@ -96,7 +99,8 @@ int Run(CommonOptions& c, std::uint16_t sensor_port, const SensorModel& model, c
     sinks.push_back(std::make_unique<driver::SequenceSink>(c.to_sequence, io::SequenceMeta{sensor, model}, c.overwrite));
   }
   if (publish) {
-    sinks.push_back(driver::MakeDdsSink({c.domain.value_or(0), c.topic, c.frame_id, c.allow_default_network}));
+    sinks.push_back(driver::MakeDdsSink(
+        {c.domain.value_or(0), c.topic, c.frame_id, c.allow_default_network, c.wait_for_subscriber}));
   }
 
   driver::SourceOptions so;
