@@ -18,6 +18,7 @@ struct LoopEvent {
   double yaw_guess_rad = 0.0;            // from the column shift
   double inlier_ratio = 0.0;             // registration overlap
   double rmse = 0.0;                     // registration residual, metres
+  double translation_observability = 0.0;  // see IcpResult; ~0 in a featureless corridor
   double odometry_disagreement = 0.0;    // metres between registered and odometry relative pose
   bool accepted = false;
   std::string reason;                    // "accepted" or why it was rejected

@@ -44,6 +44,7 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
   event.T_candidate_query = best.T_target_source;
   event.inlier_ratio = best.inlier_ratio;
   event.rmse = best.rmse;
+  event.translation_observability = best.translation_observability;
   event.odometry_disagreement =
       (best.T_target_source.translation() - T_odom.translation()).norm();
   const double drift_budget = config_.drift_offset + config_.drift_per_metre * path_length;

@@ -32,6 +32,14 @@ Qos::Qos(const TopicQos& topic_qos) : qos_(dds_create_qos()) {
   }
   dds_qset_durability(qos_, topic_qos.transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL
                                                       : DDS_DURABILITY_VOLATILE);
+  if (topic_qos.transient_local) {
+    // What a late joiner receives follows the durability-service history (default keep-last
+    // 1), not the writer's history: keep as many as the topic's depth.
+    dds_qset_durability_service(qos_, 0, topic_qos.depth > 0 ? DDS_HISTORY_KEEP_LAST
+                                                             : DDS_HISTORY_KEEP_ALL,
+                                topic_qos.depth > 0 ? topic_qos.depth : 0,
+                                DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  }
 }
 
 Qos::~Qos() { dds_delete_qos(qos_); }

@@ -133,7 +133,8 @@ TEST_P(KnownMotion, RecoversRigidMotionInAClosedRoom) {
 INSTANTIATE_TEST_SUITE_P(Modes, KnownMotion,
                          ::testing::Values(RegistrationMode::kFull, RegistrationMode::kPlaneOnly,
                                            RegistrationMode::kClassesNoDegeneracy,
-                                           RegistrationMode::kPointToPoint));
+                                           RegistrationMode::kPointToPoint),
+                         [](const auto& info) { return std::string(Name(info.param)); });
 
 TEST(Registration, AlphaIsThePlanarShare) {
   auto room = test::BoxRoom(-4, 4, -3, 3, -1.5, 2.0, true, 0.25);

