@@ -64,9 +64,11 @@ TEST_F(DaemonPipeline, EveryScanYieldsOneOdometryAndALabelledCloudWithValidLabel
   // predicted orientation for the features): identical poses, whatever their accuracy.
   OdometryPipeline offline(OdometryConfig{}, simulator.sensor_model());
   for (int i = 0; i < kScans; ++i) {
-    Scan scan = simulator.SimulateScan(i);
-    scan.t_start = dds::ToSeconds(dds::ToMsgTime(scan.t_start));  // as it travels over DDS
-    const OdometryResult expected = offline.Process(std::move(scan));
+    // The scan as it travels over DDS (float32 points, nanosecond stamp).
+    const dds::CloudMessage cloud = dds::ScanToCloud(simulator.SimulateScan(i), "lidar", i);
+    dds::CloudConversion received = dds::CloudToScan(dds::CloudView(cloud).get(), {});
+    ASSERT_TRUE(received.scan) << received.error;
+    const OdometryResult expected = offline.Process(std::move(*received.scan));
     const Eigen::Isometry3d& T = client.poses[static_cast<std::size_t>(i)].T;
     EXPECT_LT((T.translation() - expected.T_world_sensor.translation()).norm(), 1e-6) << i;
     EXPECT_LT(Eigen::AngleAxisd(T.rotation().transpose() * expected.T_world_sensor.rotation()).angle(),
