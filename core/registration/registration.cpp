@@ -123,15 +123,20 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     if (pairs.size() < static_cast<std::size_t>(config.min_correspondences)) break;
     result.enough_correspondences = true;
 
-    const DegeneracyReport report = AnalyseTranslation(
+    // Paper eqs. (C_t, w_t): the point weights come from the planar correspondences alone.
+    const DegeneracyReport planar_report = AnalyseTranslation(
         PlanarTranslationHessian(pairs.planar), config.degenerate_eigenvalue_ratio);
     const std::vector<double> weights =
-        weighted ? DegeneracyWeights(pairs.planar, report)
+        weighted ? DegeneracyWeights(pairs.planar, planar_report)
                  : std::vector<double>(pairs.planar.size(), 1.0);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
     LinearSystem system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
     system += PointSystem(pairs.point, 1.0 - alpha, kernel_scale);
 
+    // Observability of the whole weighted problem: edge and unknown points may pin a direction
+    // the planes leave free, so only a direction no residual constrains keeps the prediction.
+    const DegeneracyReport report =
+        AnalyseTranslation(system.H.topLeftCorner<3, 3>(), config.degenerate_eigenvalue_ratio);
     const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
     Vector6d dx = -H.ldlt().solve(system.b);
     if (remap) RemapDegenerateTranslation(report, dx);
@@ -140,11 +145,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     Transform(step, source_world);
     result.T_world_sensor = step * result.T_world_sensor;
 
-    // Report what the last linearisation saw. Without planar pairs, analyse the full H_tt.
-    result.degeneracy = pairs.planar.empty()
-                            ? AnalyseTranslation(system.H.topLeftCorner<3, 3>(),
-                                                 config.degenerate_eigenvalue_ratio)
-                            : report;
+    result.degeneracy = report;
     result.alpha = alpha;
     result.num_planar = static_cast<std::uint32_t>(pairs.planar.size());
     result.num_point = static_cast<std::uint32_t>(pairs.point.size());

@@ -47,11 +47,15 @@ TEST(Simulator, CorridorPointsLieOnTheWallsWithoutNoise) {
   for (const int index : {0, 7, 23}) {
     const Scan scan = sim.SimulateScan(index);
     ASSERT_GT(scan.size(), 10000u);
+    // The far end wall is the farthest thing along x; the near one stands at x = -10.
+    double far_x = -1e9;
+    for (std::size_t i = 0; i < scan.size(); ++i) far_x = std::max(far_x, ToWorld(sim, scan, i).x());
     double worst = 0.0;
     for (std::size_t i = 0; i < scan.size(); ++i) {
       const Eigen::Vector3d p = ToWorld(sim, scan, i);
       const double d = std::min({std::abs(p.y() - kHalfWidth), std::abs(p.y() + kHalfWidth),
-                                 std::abs(p.z()), std::abs(p.z() - kHeight)});
+                                 std::abs(p.z()), std::abs(p.z() - kHeight),
+                                 std::abs(p.x() + 10.0), std::abs(p.x() - far_x)});
       worst = std::max(worst, d);
     }
     EXPECT_LT(worst, 1e-6) << "scan " << index;
@@ -193,7 +197,9 @@ TEST(Simulator, InvalidSensorIsRejectedWithAReason) {
 TEST(Simulator, OutdoorLoopReturnsToItsStart) {
   SimOptions o = Options(0.0);
   const Simulator sim(SceneKind::Outdoor, SmallOs1(), o);
-  const double lap = (2 * 28 + 2 * 18 + 2 * kPi * 6) / DefaultSpeed(SceneKind::Outdoor);
+  // One lap at cruise speed plus the half ramp-up lost while accelerating from rest.
+  const double lap = (2 * 28 + 2 * 18 + 2 * kPi * 6) / DefaultSpeed(SceneKind::Outdoor) +
+                     0.5 * sim.trajectory().spec().ramp_up;
   const Eigen::Vector3d start = sim.PoseAt(o.t0).translation();
   double farthest = 0.0;
   for (double t = 0; t < lap; t += 1.0) {

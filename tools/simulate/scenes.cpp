@@ -36,7 +36,7 @@ Box AxisBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max, float refl) 
 }
 
 struct CorridorShape {
-  double x0 = -10.0, x1 = 50.0;  // open ends: no end walls
+  double x0 = -10.0, x1 = 50.0;
   double width = 2.4, height = 2.8;
 };
 
@@ -89,6 +89,10 @@ World Corridor(double speed, double duration, bool go_and_return) {
   AddFloorAndCeiling(w.scene, c, 0.0);
   AddSideWall(w.scene, c, +1, {});
   AddSideWall(w.scene, c, -1, {});
+  // A real corridor ends somewhere: two end walls, far away for most of the drive, are the only
+  // (weak) constraint along its axis. That is the degenerate case of the paper.
+  w.scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
+  w.scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x1, 0.0, c.height, kWall));
   if (go_and_return) {
     w.motion.path = Path({Eigen::Vector2d(0.0, -kTurnRadius), 0.0})
                         .Line(out)

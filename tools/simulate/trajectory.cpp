@@ -12,8 +12,18 @@ double Wave(double amplitude, double period, double t, double phase = 0.0) {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 }  // namespace
 
+// Raised-cosine speed profile v(t) = v (1 - cos(pi t / T)) / 2 up to T = ramp_up, then v: the
+// drive starts from rest with continuous acceleration, as real runs do.
+double Trajectory::Distance(double t) const {
+  const double v = spec_.speed, T = spec_.ramp_up;
+  if (t <= 0.0) return 0.0;
+  if (T <= 0.0) return v * t;
+  if (t >= T) return 0.5 * v * T + v * (t - T);
+  return 0.5 * v * (t - T / std::numbers::pi * std::sin(std::numbers::pi * t / T));
+}
+
 Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
-  const double s = spec_.speed * t;
+  const double s = Distance(t);
   const Path::State base = spec_.path.At(s, spec_.closed);
   if (path_heading) *path_heading = base.heading;
   const Eigen::Vector2d left(-std::sin(base.heading), std::cos(base.heading));
@@ -30,11 +40,15 @@ Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
 Eigen::Isometry3d Trajectory::Pose(double t) const {
   double path_heading = 0.0;
   const Eigen::Vector3d p = Position(t, &path_heading);
-  // Direction of travel by a central difference (exact enough: the path is analytic).
-  constexpr double kDt = 1e-3;
-  const Eigen::Vector3d v = Position(t + kDt) - Position(t - kDt);
-  const double yaw_travel =
-      v.head<2>().norm() > 1e-9 ? std::atan2(v.y(), v.x()) : path_heading;
+  // Yaw follows the path and the zig-zag (its slope per metre of path, so it stays defined while
+  // standing still); the time-based lateral wobble sways the sensor without turning it.
+  const double s = Distance(t);
+  const double zigzag_slope =
+      spec_.zigzag_wavelength > 0.0
+          ? spec_.zigzag_amplitude * 2.0 * std::numbers::pi / spec_.zigzag_wavelength *
+                std::cos(2.0 * std::numbers::pi * s / spec_.zigzag_wavelength)
+          : 0.0;
+  const double yaw_travel = path_heading + std::atan(zigzag_slope);
   const double yaw = yaw_travel + kDegToRad * Wave(spec_.wobble.yaw_deg, spec_.wobble.yaw_period, t, 2.0);
 
   // Ground slope along (pitch, nose up when rising) and across (roll, left side up) the heading.

@@ -21,6 +21,7 @@ struct MotionSpec {
   Path path;
   bool closed = false;        // repeat the path (a loop) instead of stopping at its end
   double speed = 1.0;         // m/s along the path
+  double ramp_up = 2.0;       // s to reach `speed` from rest (smooth), as a robot starting a run
   double sensor_height = 1.2; // metres above the ground under the sensor
   double zigzag_amplitude = 0.0;   // lateral sine offset from the path, metres
   double zigzag_wavelength = 10.0; // metres of path per zig-zag period
@@ -40,6 +41,7 @@ class Trajectory {
 
  private:
   Eigen::Vector3d Position(double t, double* path_heading = nullptr) const;
+  double Distance(double t) const;  // arc length travelled along the path after t seconds
 
   MotionSpec spec_;
 };

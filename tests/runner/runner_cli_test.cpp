@@ -1,0 +1,185 @@
+// Runs the built dammloam-odometry on a short simulated VLP-16 sequence (written in memory by
+// the simulator, with exact ground truth): loop closure on and off, map save then localization,
+// and the errors for a corrupt map or bad arguments.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+#include "tests/tools/test_support.hpp"
+#include "tools/common/sequence_io.hpp"
+#include "tools/simulate/simulator.hpp"
+
+namespace dammloam {
+namespace {
+
+constexpr int kScans = 30;
+// The simulated drive starts from rest; the test sequence starts at cruise speed (after the
+// simulator's 2 s ramp-up) so that it tests the runner rather than the odometry's start-up.
+constexpr int kFirstScan = 25;
+
+struct ProcessResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+std::string Binary() { return std::string(DAMMLOAM_BIN_DIR) + "/dammloam-odometry"; }
+
+ProcessResult RunOdometry(const std::string& arguments) {
+  const std::string command = Binary() + " " + arguments + " 2>&1";
+  ProcessResult run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer{};
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+// Largest position difference between poses of equal stamps; fails if a stamp of `b` is
+// missing from `a`.
+double MaxPositionDifference(const std::vector<io::StampedPose>& a,
+                             const std::vector<io::StampedPose>& b) {
+  std::map<double, Eigen::Vector3d> by_stamp;
+  for (const io::StampedPose& p : a) by_stamp[p.t] = p.T.translation();
+  double worst = 0.0;
+  for (const io::StampedPose& p : b) {
+    const auto it = by_stamp.find(p.t);
+    if (it == by_stamp.end()) {
+      ADD_FAILURE() << "stamp " << p.t << " missing";
+      return 1e9;
+    }
+    worst = std::max(worst, (it->second - p.T.translation()).norm());
+  }
+  return worst;
+}
+
+class RunnerCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(Binary())) GTEST_SKIP() << Binary() << " not built";
+    sim::SimOptions options;
+    options.num_scans = kFirstScan + kScans;
+    const sim::Simulator simulator(sim::SceneKind::Zigzag, sim::Vlp16(), options);
+    io::SequenceWriter writer(tmp_ / "seq",
+                              io::SequenceMeta{"vlp-16", simulator.sensor_model(),
+                                               io::PointLayout::kXYZITR});
+    std::vector<io::StampedPose> gt;
+    for (int i = 0; i < kScans; ++i) {
+      const Scan scan = simulator.SimulateScan(kFirstScan + i);
+      writer.Write(scan);
+      gt.push_back({scan.t_start, simulator.PoseAt(scan.t_start)});
+    }
+    writer.WriteGroundTruth(gt);
+    gt_ = gt;
+  }
+  std::string Path(const std::string& name) const { return (tmp_ / name).string(); }
+  std::string Sequence() const { return Path("seq"); }
+
+  test::TempDir tmp_;
+  std::vector<io::StampedPose> gt_;
+};
+
+TEST_F(RunnerCli, WritesOnePosePerScanWithTheStampsOfTimesTxt) {
+  const ProcessResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
+                                        " --odometry-out " + Path("odometry.tum") + " --events " +
+                                        Path("events.jsonl"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto times = io::SequenceReader::Open(tmp_ / "seq").times();
+  for (const char* file : {"corrected.tum", "odometry.tum"}) {
+    const auto poses = io::ReadTum(tmp_ / file);
+    ASSERT_EQ(poses.size(), times.size()) << file;
+    for (std::size_t i = 0; i < poses.size(); ++i) EXPECT_NEAR(poses[i].t, times[i], 1e-9) << file;
+  }
+  EXPECT_TRUE(std::filesystem::exists(tmp_ / "events.jsonl"));
+  // Both trajectories are evaluated against gt.tum and follow the true motion (~3 m driven).
+  EXPECT_NE(run.output.find("odometry vs gt.tum: APE RMSE"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("corrected vs gt.tum: APE RMSE"), std::string::npos) << run.output;
+  const auto odometry = io::ReadTum(tmp_ / "odometry.tum");
+  const Eigen::Isometry3d T_gt_odom = gt_.front().T * odometry.front().T.inverse();
+  for (std::size_t i = 0; i < odometry.size(); ++i) {
+    EXPECT_LT(((T_gt_odom * odometry[i].T).translation() - gt_[i].T.translation()).norm(), 0.15)
+        << "scan " << i;
+  }
+}
+
+TEST_F(RunnerCli, NoLoopClosureWritesTheOdometryTrajectory) {
+  const ProcessResult with = RunOdometry(Sequence() + " --quiet --out " + Path("corrected.tum") +
+                                         " --odometry-out " + Path("odometry.tum"));
+  ASSERT_EQ(with.exit_code, 0) << with.output;
+  const ProcessResult without =
+      RunOdometry(Sequence() + " --no-loop-closure --out " + Path("plain.tum"));
+  ASSERT_EQ(without.exit_code, 0) << without.output;
+  EXPECT_EQ(without.output.find("corrected vs gt.tum"), std::string::npos) << without.output;
+  const auto plain = io::ReadTum(tmp_ / "plain.tum");
+  const auto odometry = io::ReadTum(tmp_ / "odometry.tum");
+  ASSERT_EQ(plain.size(), static_cast<std::size_t>(kScans));
+  ASSERT_EQ(odometry.size(), plain.size());
+  EXPECT_LT(MaxPositionDifference(odometry, plain), 1e-6);
+  // --events needs the loop-closing back-end.
+  const ProcessResult conflict = RunOdometry(Sequence() + " --no-loop-closure --out " +
+                                             Path("x.tum") + " --events " + Path("e.jsonl"));
+  EXPECT_NE(conflict.exit_code, 0) << conflict.output;
+}
+
+TEST_F(RunnerCli, SavedMapLocalizesTheSameSequence) {
+  const ProcessResult mapping = RunOdometry(Sequence() + " --quiet --out " +
+                                            Path("corrected.tum") + " --save-map " + Path("map"));
+  ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
+  const std::string map_json = test::ReadText(tmp_ / "map" / "map.json");
+
+  const ProcessResult localizing = RunOdometry(Sequence() + " --load-map " + Path("map") +
+                                               " --localize --out " + Path("localized.tum"));
+  ASSERT_EQ(localizing.exit_code, 0) << localizing.output;
+  EXPECT_NE(localizing.output.find("localized vs gt.tum: APE RMSE"), std::string::npos)
+      << localizing.output;
+  const auto localized = io::ReadTum(tmp_ / "localized.tum");
+  const auto corrected = io::ReadTum(tmp_ / "corrected.tum");
+  // Stated bound: at least 90% of the scans localized, each within 0.10 m of where the mapping
+  // run put it (same map frame, no alignment).
+  EXPECT_GE(localized.size(), static_cast<std::size_t>(0.9 * kScans)) << localizing.output;
+  EXPECT_LT(MaxPositionDifference(corrected, localized), 0.10);
+  // Localization does not touch the map.
+  EXPECT_EQ(test::ReadText(tmp_ / "map" / "map.json"), map_json);
+}
+
+TEST_F(RunnerCli, CorruptMapFailsWithExitCodeOneNamingTheProblem) {
+  const ProcessResult mapping = RunOdometry(Sequence() + " --quiet --max-scans 12 --out " +
+                                            Path("corrected.tum") + " --save-map " + Path("map"));
+  ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
+  const auto keyframes = tmp_ / "map" / "keyframes.bin";
+  ASSERT_TRUE(std::filesystem::exists(keyframes));
+  std::filesystem::resize_file(keyframes, std::filesystem::file_size(keyframes) / 2);
+
+  const ProcessResult truncated = RunOdometry(Sequence() + " --load-map " + Path("map") +
+                                              " --localize --out " + Path("localized.tum"));
+  EXPECT_EQ(truncated.exit_code, 1) << truncated.output;
+  EXPECT_NE(truncated.output.find("keyframes.bin"), std::string::npos) << truncated.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp_ / "localized.tum"));
+
+  std::filesystem::remove(tmp_ / "map" / "map.json");
+  const ProcessResult no_meta = RunOdometry(Sequence() + " --load-map " + Path("map") +
+                                            " --localize --out " + Path("localized.tum"));
+  EXPECT_EQ(no_meta.exit_code, 1) << no_meta.output;
+  EXPECT_NE(no_meta.output.find("map.json"), std::string::npos) << no_meta.output;
+}
+
+TEST_F(RunnerCli, RefusesToSaveTheMapOverSomethingElse) {
+  test::WriteText(tmp_ / "precious.txt", "not a map\n");
+  const ProcessResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
+                                        " --save-map " + Path("precious.txt"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("precious.txt"), std::string::npos) << run.output;
+  EXPECT_EQ(test::ReadText(tmp_ / "precious.txt"), "not a map\n");
+  EXPECT_FALSE(std::filesystem::exists(tmp_ / "corrected.tum"));
+  // --localize without a map is a usage error.
+  EXPECT_NE(RunOdometry(Sequence() + " --localize --out " + Path("x.tum")).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace dammloam

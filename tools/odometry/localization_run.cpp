@@ -1,0 +1,63 @@
+// Localization mode: each scan is deskewed by the odometry pipeline, then located in a saved map
+// (relocalize until found, then track). The saved map is never modified.
+#include <cstdio>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include "core/backend/localizer.hpp"
+#include "core/odometry/pipeline.hpp"
+#include "tools/common/config_yaml.hpp"
+#include "tools/common/sequence_io.hpp"
+#include "tools/mapstore/map_store.hpp"
+#include "tools/odometry/runner.hpp"
+
+namespace dammloam::tools {
+
+int RunLocalization(const RunnerOptions& o) {
+  // Load the map first: a corrupt map should fail before anything else happens.
+  const backend::MapData map = mapstore::LoadMap(o.load_map);
+  const io::SequenceReader reader = io::SequenceReader::Open(o.sequence);
+  const OdometryConfig config =
+      o.config.empty() ? OdometryConfig{} : io::LoadOdometryConfig(o.config);
+  io::ValidateOdometryConfig(config);
+  const std::size_t n = o.max_scans > 0 ? std::min(o.max_scans, reader.size()) : reader.size();
+  if (n == 0) throw std::runtime_error(o.sequence.string() + ": sequence has no scans");
+
+  OdometryPipeline pipeline(config, reader.meta().model);
+  backend::Localizer localizer(map);
+  const bool progress = !o.quiet && isatty(STDERR_FILENO);
+
+  std::vector<io::StampedPose> odometry, localized;
+  std::vector<double> inlier_ratios;
+  for (std::size_t i = 0; i < n; ++i) {
+    Scan scan = reader.ReadScan(i);
+    scan.t_start = reader.times()[i];
+    const OdometryResult result = pipeline.Process(std::move(scan));
+    odometry.push_back({reader.times()[i], result.T_world_sensor});
+    if (result.deskewed_points.empty()) continue;
+    if (const auto pose = localizer.Localize(result.deskewed_points)) {
+      localized.push_back({reader.times()[i], pose->T_map_sensor});
+      inlier_ratios.push_back(pose->inlier_ratio);
+    }
+    if (progress) std::fprintf(stderr, "\r%zu/%zu scans, %zu localized  ", i + 1, n, localized.size());
+  }
+  if (progress) std::fprintf(stderr, "\n");
+
+  io::WriteTum(o.out, localized);
+  if (!o.odometry_out.empty()) io::WriteTum(o.odometry_out, odometry);
+  if (localized.empty()) {
+    throw std::runtime_error("no scan of " + o.sequence.string() + " could be localized in map " +
+                             o.load_map.string());
+  }
+  if (o.quiet) return 0;
+  spdlog::info("localization: {} of {} scans localized in {} ({} map points), median inlier "
+               "ratio {:.2f} -> {}", localized.size(), n, o.load_map.string(),
+               localizer.NumMapPoints(), Median(inlier_ratios), o.out.string());
+  if (const auto gt = reader.ReadGroundTruth()) {
+    LogMetrics("odometry", *gt, odometry);
+    LogMetrics("localized", *gt, localized);
+  }
+  return 0;
+}
+
+}  // namespace dammloam::tools

@@ -1,0 +1,30 @@
+#include "tools/odometry/loop_event_json.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace dammloam::tools {
+
+std::string LoopEventJsonLine(const backend::LoopEvent& event) {
+  const Eigen::Vector3d t = event.T_candidate_query.translation();
+  const Eigen::Quaterniond q(event.T_candidate_query.rotation());
+  const nlohmann::json json = {
+      {"query_keyframe", event.query_keyframe},
+      {"candidate_keyframe", event.candidate_keyframe},
+      {"query_scan_index", event.query_scan_index},
+      {"candidate_scan_index", event.candidate_scan_index},
+      {"query_stamp", event.query_stamp},
+      {"candidate_stamp", event.candidate_stamp},
+      {"scan_context_distance", event.scan_context_distance},
+      {"yaw_guess_rad", event.yaw_guess_rad},
+      {"inlier_ratio", event.inlier_ratio},
+      {"rmse", event.rmse},
+      {"translation_observability", event.translation_observability},
+      {"odometry_disagreement", event.odometry_disagreement},
+      {"T_candidate_query", {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}},
+      {"accepted", event.accepted},
+      {"reason", event.reason},
+  };
+  return json.dump();
+}
+
+}  // namespace dammloam::tools

@@ -1,0 +1,37 @@
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tools/common/tum.hpp"
+
+// The two modes of dammloam-odometry. main.cpp only parses the command line.
+namespace dammloam::tools {
+
+struct RunnerOptions {
+  std::filesystem::path sequence, out, config, map, stats;
+  std::filesystem::path odometry_out;  // raw odometry trajectory (loop closure on)
+  std::filesystem::path events;        // JSON lines, one per LoopEvent
+  std::filesystem::path save_map, load_map;
+  std::size_t max_scans = 0;
+  bool loop_closure = true;
+  bool localize = false;
+  bool quiet = false;
+};
+
+// Odometry over the sequence, with the loop-closing back-end unless disabled: --out holds the
+// corrected trajectory (one pose per scan), --odometry-out the raw one. Returns the exit code.
+int RunMapping(const RunnerOptions& options);
+
+// Localization in the map at options.load_map: odometry only deskews, the map never grows;
+// --out holds the poses of the scans that were localized, in the map frame.
+int RunLocalization(const RunnerOptions& options);
+
+// "<label> vs gt.tum: APE RMSE ..., RPE RMSE ..." through spdlog; nothing if fewer than 2 pairs.
+void LogMetrics(const std::string& label, const std::vector<io::StampedPose>& gt,
+                const std::vector<io::StampedPose>& estimate);
+
+double Median(std::vector<double> values);
+
+}  // namespace dammloam::tools
