@@ -34,6 +34,13 @@ double MedianRange(const std::vector<Eigen::Vector3d>& points) {
   return *mid;
 }
 
+void TransformScan(const Eigen::Isometry3d& T, ClassifiedScan& scan) {
+  if (T.isApprox(Eigen::Isometry3d::Identity())) return;
+  for (Eigen::Vector3d& p : scan.scan.points) p = T * p;
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  for (Eigen::Vector3f& n : scan.normals) n = R * n;
+}
+
 template <typename T>
 std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
   std::vector<T> out;
@@ -99,9 +106,17 @@ OdometryResult Odometry::Register(ClassifiedScan&& scan) {
     result.status = OdometryStatus::kTimeGap;
   }
 
-  // Deskew to the scan start with the constant-velocity motion over one period.
-  if (config_.deskew) {
-    DeskewScan(scan, ExpSE3(velocity_ * sensor_.scan_period), sensor_.scan_period);
+  // Deskew with the constant-velocity motion over one period, then express the scan in the
+  // frame of its middle (as KISS-ICP does). Registering the start frame instead couples a
+  // velocity error into the next pose with the opposite sign, and the two feed each other
+  // into a growing oscillation; around the middle the error averages out. Poses are kept
+  // internally at mid-scan and reported at the scan start, as sequence.md asks.
+  Eigen::Isometry3d T_mid_start = Eigen::Isometry3d::Identity();
+  if (config_.deskew && scan.scan.has_times()) {
+    const Vector6d xi_scan = velocity_ * sensor_.scan_period;
+    DeskewScan(scan, ExpSE3(xi_scan), sensor_.scan_period);
+    T_mid_start = ExpSE3(-0.5 * xi_scan);
+    TransformScan(T_mid_start, scan);
   }
   result.timings.deskew_ms = watch.LapMs();
 
@@ -143,8 +158,9 @@ OdometryResult Odometry::Register(ClassifiedScan&& scan) {
   T_world_last_ = T_new;
   last_stamp_ = scan.scan.t_start;
 
-  result.T_world_sensor = T_new;
+  result.T_world_sensor = Normalized(T_new * T_mid_start);
   result.velocity = velocity_;
+  TransformScan(T_mid_start.inverse(), scan);  // report the deskewed scan in the start frame
   const StageTimings& t = result.timings;
   result.timings.total_ms = t.projection_ms + t.normals_ms + t.classification_ms + t.deskew_ms +
                             t.downsample_ms + t.registration_ms + t.map_update_ms;

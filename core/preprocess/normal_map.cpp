@@ -15,6 +15,8 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
       cot_min_incidence_(1.0 / std::tan(config.min_incidence_deg * std::numbers::pi / 180.0)),
       range_noise_(config.range_noise),
       min_tangent_sine_(config.min_tangent_sine),
+      min_baseline_(config.min_baseline),
+      max_stencil_(std::max(1, config.max_stencil)),
       normals_(static_cast<std::size_t>(rows_) * cols_, Eigen::Vector3f::Zero()),
       valid_(static_cast<std::size_t>(rows_) * cols_, 0) {
   // Rows are independent; grain of a few rows keeps the task overhead negligible.
@@ -37,38 +39,65 @@ bool NormalMap::Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vec
   return jump * jump <= scale * scale * chord2;
 }
 
+// Paper eq. (surface tangents) takes the immediate neighbours. At 0.35 deg column spacing and
+// centimetre range noise those are only a few centimetres apart, so the normal's noise would
+// exceed the 15 deg edge threshold on a flat floor. The stencil therefore widens, one pixel at a
+// time and only while the surface stays continuous, until the tangent spans 2 * min_baseline
+// (a sensor-independent length). Empty pixels (no return, or azimuth aliasing between firing
+// angles and image columns) are stepped over rather than voiding the normal.
+// Returns the tangent, or nothing if no continuous neighbour exists on both sides.
+std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r, int c,
+                                                  int dr, int dc) const {
+  const Eigen::Vector3d& p = image.point(r, c);
+  const double rp = image.range(r, c);
+  struct Side {
+    const Eigen::Vector3d* point = nullptr;
+    bool blocked = false;  // a discontinuity: nothing farther on this side is the same surface
+  };
+  Side sides[2];
+  std::optional<Eigen::Vector3d> tangent;
+  for (int k = 1; k <= max_stencil_; ++k) {
+    for (int s = 0; s < 2; ++s) {
+      Side& side = sides[s];
+      if (side.blocked) continue;
+      const int sign = s == 0 ? -1 : 1;
+      int rr = r + sign * k * dr;
+      int cc = c + sign * k * dc;
+      if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
+      cc = ((cc % cols_) + cols_) % cols_;  // columns wrap around 360 deg
+      if (image.empty(rr, cc)) continue;
+      if (!Continuous(p, rp, image.point(rr, cc), image.range(rr, cc))) {
+        side.blocked = true;
+        continue;
+      }
+      side.point = &image.point(rr, cc);
+    }
+    // One-sided differences at the image border or next to a discontinuity use the centre.
+    const Eigen::Vector3d& a = sides[0].point ? *sides[0].point : p;
+    const Eigen::Vector3d& b = sides[1].point ? *sides[1].point : p;
+    if (!sides[0].point && !sides[1].point) continue;
+    tangent = b - a;
+    if (sides[0].point && sides[1].point &&
+        tangent->squaredNorm() >= 4.0 * min_baseline_ * min_baseline_) {
+      break;
+    }
+  }
+  return tangent;
+}
+
 void NormalMap::ComputeRow(const RangeImage& image, int r) {
-  // The first and last rows have no neighbour outside the image: they use a one-sided
-  // difference along the rows instead of losing a whole beam (1/8 of a VLP-16).
-  const int above = r > 0 ? r - 1 : r;
-  const int below = r + 1 < rows_ ? r + 1 : r;
   for (int c = 0; c < cols_; ++c) {
     if (image.empty(r, c)) continue;
-    const int left = c == 0 ? cols_ - 1 : c - 1;
-    const int right = c + 1 == cols_ ? 0 : c + 1;
-    if (image.empty(r, left) || image.empty(r, right) || image.empty(above, c) ||
-        image.empty(below, c)) {
-      continue;
-    }
-    const Eigen::Vector3d& p = image.point(r, c);
-    const Eigen::Vector3d& pl = image.point(r, left);
-    const Eigen::Vector3d& pr = image.point(r, right);
-    const Eigen::Vector3d& pu = image.point(above, c);
-    const Eigen::Vector3d& pd = image.point(below, c);
-    const double rp = image.range(r, c);
-    if (!Continuous(p, rp, pl, image.range(r, left)) ||
-        !Continuous(p, rp, pr, image.range(r, right)) ||
-        !Continuous(p, rp, pu, image.range(above, c)) ||
-        !Continuous(p, rp, pd, image.range(below, c))) {
-      continue;
-    }
-    // Paper eqs. (surface tangents, normal vector).
-    const Eigen::Vector3d t_u = pr - pl;
-    const Eigen::Vector3d t_v = pd - pu;
-    Eigen::Vector3d n = t_u.cross(t_v);
+    const std::optional<Eigen::Vector3d> t_u = Tangent(image, r, c, 0, 1);
+    if (!t_u) continue;
+    const std::optional<Eigen::Vector3d> t_v = Tangent(image, r, c, 1, 0);
+    if (!t_v) continue;
+    // Paper eq. (normal vector).
+    Eigen::Vector3d n = t_u->cross(*t_v);
     const double norm = n.norm();
-    if (!(norm > min_tangent_sine_ * t_u.norm() * t_v.norm())) continue;
+    if (!(norm > min_tangent_sine_ * t_u->norm() * t_v->norm())) continue;
     n /= norm;
+    const Eigen::Vector3d& p = image.point(r, c);
     if (n.dot(p) > 0.0) n = -n;  // paper eq. (normal flipping): face the sensor
     const std::size_t pixel = static_cast<std::size_t>(r) * cols_ + c;
     normals_[pixel] = n.cast<float>();

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross product
 #include <cstdint>
@@ -31,6 +32,8 @@ class NormalMap {
 
  private:
   void ComputeRow(const RangeImage& image, int r);
+  std::optional<Eigen::Vector3d> Tangent(const RangeImage& image, int r, int c, int dr,
+                                         int dc) const;
   bool Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vector3d& q, double rq) const;
 
   int rows_;
@@ -38,6 +41,8 @@ class NormalMap {
   double cot_min_incidence_;
   double range_noise_;
   double min_tangent_sine_;
+  double min_baseline_;
+  int max_stencil_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> valid_;
 };

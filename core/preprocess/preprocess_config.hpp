@@ -19,10 +19,14 @@ struct NormalMapConfig {
   // changes range by about r * delta * cot(beta) between rays delta radians apart, so a jump
   // larger than that for beta = min_incidence_deg is taken as a different surface. Scaling with
   // the actual ray separation makes one threshold serve 0.35 deg and 2 deg beam spacings.
-  double min_incidence_deg = 6.0;
+  double min_incidence_deg = 2.0;
   double range_noise = 0.03;  // metres, added to the allowed jump (sensor noise near the sensor)
   // |t_u x t_v| below this fraction of |t_u| |t_v| (sine of the tangent angle): degenerate.
   double min_tangent_sine = 0.05;
+  // Tangents widen their stencil up to max_stencil pixels each side until they span
+  // 2 * min_baseline metres, so range noise cannot dominate the normal (see normal_map.cpp).
+  double min_baseline = 0.1;  // metres
+  int max_stencil = 8;
 };
 
 struct ClassifierConfig {

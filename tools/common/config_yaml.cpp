@@ -89,6 +89,8 @@ void ReadPreprocess(Section s, PreprocessConfig& c) {
   n.Get("min_incidence_deg", c.normals.min_incidence_deg);
   n.Get("range_noise", c.normals.range_noise);
   n.Get("min_tangent_sine", c.normals.min_tangent_sine);
+  n.Get("min_baseline", c.normals.min_baseline);
+  n.Get("max_stencil", c.normals.max_stencil);
   n.RejectUnknownKeys();
   Section k = s.Child("classifier");
   k.Get("majority", c.classifier.majority);
@@ -188,6 +190,9 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(p.normals.range_noise >= 0.0, "preprocess.normals.range_noise", "must be >= 0");
   Require(p.normals.min_tangent_sine >= 0.0 && p.normals.min_tangent_sine < 1.0,
           "preprocess.normals.min_tangent_sine", "must be in [0, 1)");
+  Require(p.normals.min_baseline >= 0.0, "preprocess.normals.min_baseline", "must be >= 0");
+  Require(p.normals.max_stencil >= 1 && p.normals.max_stencil <= 16,
+          "preprocess.normals.max_stencil", "must be in [1, 16]");
   Require(p.classifier.majority > 0.0 && p.classifier.majority <= 1.0,
           "preprocess.classifier.majority", "must be in (0, 1]");
   Require(p.classifier.edge_angle_deg > 0.0 && p.classifier.edge_angle_deg < 180.0,
