@@ -30,4 +30,18 @@ function(dammloam_add_test)
   # ("sanitize-tsan"); `ctest -L` takes a regex, so -L sanitize and -L tsan both select it.
   string(REPLACE ";" "-" label "${T_LABELS}")
   gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${label}")
+  # One aggregate target per label (dammloam_tests_sanitize, dammloam_tests_tsan) so a
+  # sanitizer build compiles only the suites it runs.
+  foreach(l ${T_LABELS})
+    if(NOT TARGET dammloam_tests_${l})
+      add_custom_target(dammloam_tests_${l})
+    endif()
+    add_dependencies(dammloam_tests_${l} ${T_NAME})
+  endforeach()
+  # TBB's worker pool is not instrumented, so TSan reports its internal hand-offs as races.
+  # Under TSan the tests run TBB loops inline (see tests/support) and TSan judges our threads.
+  if(DAMMLOAM_TSAN)
+    target_sources(${T_NAME} PRIVATE ${CMAKE_SOURCE_DIR}/tests/support/tbb_inline.cpp)
+    target_link_libraries(${T_NAME} PRIVATE dammloam_core)
+  endif()
 endfunction()

@@ -18,14 +18,14 @@ cmake --build build -j"$JOBS" --target dammloam-simulate dammloam-evaluate damml
 BIN=$ROOT/build/bin
 rm -rf "$OUT" && mkdir -p "$OUT"
 # Never let DDS discovery leave this machine: pin Cyclone DDS to the loopback interface.
-export CYCLONEDDS_URI=file://$ROOT/deploy/cyclonedds/loopback.xml
+export CYCLONEDDS_URI=file://$ROOT/deploy/cyclonedds-loopback.xml
 DOMAIN=${DOMAIN:-77}
 
 echo "== 1/4 simulating $SCANS scans of a $SCENE with an $SENSOR"
 "$BIN/dammloam-simulate" --scene "$SCENE" --sensor "$SENSOR" --scans "$SCANS" --out "$OUT/seq"
 
 echo "== 2/4 starting dammloamd (domain $DOMAIN) and the recorder"
-"$BIN/dammloamd" --config deploy/config/dammloamd.yaml --domain "$DOMAIN" >"$OUT/dammloamd.log" 2>&1 &
+"$BIN/dammloamd" --config deploy/config/dammloamd.yaml --domain "$DOMAIN" --sensor-meta "$OUT/seq/meta.json" >"$OUT/dammloamd.log" 2>&1 &
 DAEMON=$!
 "$BIN/dammloam-record" --domain "$DOMAIN" --poses "$OUT/poses_dds.tum" --events "$OUT/events.jsonl" \
   --count "$SCANS" --timeout 30 >"$OUT/record.log" 2>&1 &

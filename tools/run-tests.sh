@@ -14,15 +14,19 @@ cmake --build build -j"$JOBS"
 ctest --test-dir build --output-on-failure -j"$JOBS"
 
 if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
-  echo "== ASan+UBSan build + tests"
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_SANITIZE=ON >/dev/null
-  cmake --build build-asan -j"$JOBS"
+  # The algorithm, its I/O and the simulator again under AddressSanitizer + UBSan.
+  echo "== ASan+UBSan build + tests (geometry, core, odometry, tools, sim)"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_SANITIZE=ON \
+    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim" >/dev/null
+  cmake --build build-asan -j"$JOBS" --target dammloam_tests_sanitize dammloam-evaluate dammloam-simulate
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$JOBS" -L sanitize
 
+  # The daemon's threaded pipeline and its queues under ThreadSanitizer.
   echo "== TSan build + pipeline tests"
-  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_TSAN=ON >/dev/null
-  cmake --build build-tsan -j"$JOBS"
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_TSAN=ON \
+    -DDAMMLOAM_TEST_AREAS="system" >/dev/null
+  cmake --build build-tsan -j"$JOBS" --target dammloam_tests_tsan
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
     ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
 fi
