@@ -49,7 +49,6 @@ bool NormalMap::Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vec
 std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r, int c,
                                                   int dr, int dc) const {
   const Eigen::Vector3d& p = image.point(r, c);
-  const double rp = image.range(r, c);
   struct Side {
     const Eigen::Vector3d* point = nullptr;
     bool blocked = false;  // a discontinuity: nothing farther on this side is the same surface
@@ -66,11 +65,19 @@ std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r
       if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
       cc = ((cc % cols_) + cols_) % cols_;  // columns wrap around 360 deg
       if (image.empty(rr, cc)) continue;
-      if (!Continuous(p, rp, image.point(rr, cc), image.range(rr, cc))) {
+      const Eigen::Vector3d& q = image.point(rr, cc);
+      // Continuity is judged against the previous pixel of the chain (a wide stencil would
+      // otherwise tolerate a jump to another surface), and a widened tangent must stay on the
+      // line it started (so it stops at a corner instead of mixing two planes).
+      const Eigen::Vector3d& prev = side.point ? *side.point : p;
+      if (!Continuous(prev, prev.norm(), q, image.range(rr, cc)) ||
+          (side.point && (q - p).cross(prev - p).norm() > range_noise_ * (prev - p).norm())) {
+        // Paper: a pixel next to a range discontinuity has no normal.
+        if (!side.point) return std::nullopt;
         side.blocked = true;
         continue;
       }
-      side.point = &image.point(rr, cc);
+      side.point = &q;
     }
     // One-sided differences at the image border or next to a discontinuity use the centre.
     const Eigen::Vector3d& a = sides[0].point ? *sides[0].point : p;

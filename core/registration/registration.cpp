@@ -145,7 +145,9 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     Transform(step, source_world);
     result.T_world_sensor = step * result.T_world_sensor;
 
-    result.degeneracy = report;
+    // Published degeneracy is the paper's analysis of the planar H_tt (what the point weights
+    // use); without planar pairs, that of the whole problem.
+    result.degeneracy = pairs.planar.empty() ? report : planar_report;
     result.alpha = alpha;
     result.num_planar = static_cast<std::uint32_t>(pairs.planar.size());
     result.num_point = static_cast<std::uint32_t>(pairs.point.size());
