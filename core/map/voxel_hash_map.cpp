@@ -1,5 +1,7 @@
 #include "core/map/voxel_hash_map.hpp"
 
+#include <array>
+#include <cmath>
 #include <limits>
 
 namespace dammloam {
@@ -56,25 +58,60 @@ void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   }
 }
 
+namespace {
+
+// The 27 neighbour offsets, the query's own voxel first, then faces, edges and corners: the
+// nearer boxes come first so the farther ones are mostly pruned by the best distance so far.
+constexpr std::array<std::array<int, 3>, 27> NeighbourOffsets() {
+  std::array<std::array<int, 3>, 27> offsets{};
+  std::size_t n = 0;
+  for (int order = 0; order <= 3; ++order) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          if ((dx != 0) + (dy != 0) + (dz != 0) == order) offsets[n++] = {dx, dy, dz};
+        }
+      }
+    }
+  }
+  return offsets;
+}
+constexpr std::array<std::array<int, 3>, 27> kNeighbourOffsets = NeighbourOffsets();
+
+// Squared distance from a point at `local` (voxel units, in [0, 1)^3 of its own voxel) to the
+// neighbour box at `offset`, in voxel units.
+double BoxDistanceSq(const Eigen::Vector3d& local, const std::array<int, 3>& offset) {
+  double d2 = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double gap = offset[axis] < 0 ? local[axis] : (offset[axis] > 0 ? 1.0 - local[axis] : 0.0);
+    d2 += gap * gap;
+  }
+  return d2;
+}
+
+}  // namespace
+
 const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
-                                               std::optional<PointClass> label) const {
+                                               std::optional<PointClass> label,
+                                               double max_distance) const {
   const Voxel centre = PointToVoxel(query, voxel_size_);
+  const Eigen::Vector3d local = query / voxel_size_ - centre.cast<double>();
+  const double inv_voxel_sq = 1.0 / (voxel_size_ * voxel_size_);
   const MapPoint* best = nullptr;
-  double best_sq = std::numeric_limits<double>::max();
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        const auto it = map_.find(centre + Voxel(dx, dy, dz));
-        if (it == map_.end()) continue;
-        for (std::size_t c = 0; c < kNumPointClasses; ++c) {
-          if (label && c != Index(*label)) continue;
-          for (const MapPoint& p : it->second.by_class[c]) {
-            const double d_sq = (p.position - query).squaredNorm();
-            if (d_sq < best_sq) {
-              best_sq = d_sq;
-              best = &p;
-            }
-          }
+  double best_sq = std::isfinite(max_distance) ? max_distance * max_distance
+                                               : std::numeric_limits<double>::max();
+  for (const auto& offset : kNeighbourOffsets) {
+    // A box farther than the best match cannot hold a better one: skip its hash lookup.
+    if (BoxDistanceSq(local, offset) >= best_sq * inv_voxel_sq) continue;
+    const auto it = map_.find(centre + Voxel(offset[0], offset[1], offset[2]));
+    if (it == map_.end()) continue;
+    for (std::size_t c = 0; c < kNumPointClasses; ++c) {
+      if (label && c != Index(*label)) continue;
+      for (const MapPoint& p : it->second.by_class[c]) {
+        const double d_sq = (p.position - query).squaredNorm();
+        if (d_sq < best_sq) {
+          best_sq = d_sq;
+          best = &p;
         }
       }
     }

@@ -2,6 +2,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <limits>
 #include <optional>
 #include <tsl/robin_map.h>
 #include <vector>
@@ -34,9 +35,10 @@ class VoxelHashMap {
   void RemoveFarVoxels(const Eigen::Vector3d& origin);
 
   // Nearest map point to `query` in the 27-voxel neighbourhood, restricted to `label` when
-  // given. nullptr when there is none.
-  const MapPoint* ClosestNeighbour(const Eigen::Vector3d& query,
-                                   std::optional<PointClass> label) const;
+  // given and closer than max_distance. nullptr when there is none.
+  const MapPoint* ClosestNeighbour(
+      const Eigen::Vector3d& query, std::optional<PointClass> label,
+      double max_distance = std::numeric_limits<double>::infinity()) const;
 
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const;

@@ -17,6 +17,7 @@ struct DegeneracyReport {
   Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();
   Eigen::Matrix3d eigenvectors = Eigen::Matrix3d::Identity();  // columns, world frame
   std::array<bool, 3> degenerate{false, false, false};         // per eigen-direction
+  bool AnyDegenerate() const { return degenerate[0] || degenerate[1] || degenerate[2]; }
 };
 
 // What happened to a scan. Only kOk, kFirstScan and kTimeGap registered it and updated the

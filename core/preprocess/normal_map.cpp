@@ -12,10 +12,11 @@ namespace dammloam {
 NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
     : rows_(image.rows()),
       cols_(image.cols()),
-      cot_min_incidence_(1.0 / std::tan(config.min_incidence_deg * std::numbers::pi / 180.0)),
-      range_noise_(config.range_noise),
-      min_tangent_sine_(config.min_tangent_sine),
-      min_baseline_(config.min_baseline),
+      cot_min_incidence_(
+          static_cast<float>(1.0 / std::tan(config.min_incidence_deg * std::numbers::pi / 180.0))),
+      range_noise_(static_cast<float>(config.range_noise)),
+      min_tangent_sine_(static_cast<float>(config.min_tangent_sine)),
+      min_baseline_(static_cast<float>(config.min_baseline)),
       max_stencil_(std::max(1, config.max_stencil)),
       normals_(static_cast<std::size_t>(rows_) * cols_, Eigen::Vector3f::Zero()),
       valid_(static_cast<std::size_t>(rows_) * cols_, 0) {
@@ -28,14 +29,14 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
 
 // Same surface if the range jump is no larger than a plane seen at the minimum incidence angle
 // would produce between these two rays: |dr| <= r_mean * angle(p, q) * cot(beta_min) + noise.
-// The ray angle is taken as the chord between unit directions, 2 - 2 cos (exact enough below a
-// few degrees), which needs no square root.
-bool NormalMap::Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vector3d& q,
-                           double rq) const {
-  const double jump = std::abs(rp - rq) - range_noise_;
-  if (jump <= 0.0) return true;
-  const double chord2 = 2.0 - 2.0 * p.dot(q) / (rp * rq);
-  const double scale = 0.5 * (rp + rq) * cot_min_incidence_;
+// The ray angle is taken as the chord between unit directions (exact enough below a few
+// degrees), which needs no square root.
+bool NormalMap::Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q,
+                           float rq) const {
+  const float jump = std::abs(rp - rq) - range_noise_;
+  if (jump <= 0.0f) return true;
+  const float chord2 = (p / rp - q / rq).squaredNorm();  // stable in single precision
+  const float scale = 0.5f * (rp + rq) * cot_min_incidence_;
   return jump * jump <= scale * scale * chord2;
 }
 
@@ -46,15 +47,18 @@ bool NormalMap::Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vec
 // (a sensor-independent length). Empty pixels (no return, or azimuth aliasing between firing
 // angles and image columns) are stepped over rather than voiding the normal.
 // Returns the tangent, or nothing if no continuous neighbour exists on both sides.
-std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r, int c,
+std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r, int c,
                                                   int dr, int dc) const {
-  const Eigen::Vector3d& p = image.point(r, c);
+  const Eigen::Vector3f& p = image.point(r, c);
   struct Side {
-    const Eigen::Vector3d* point = nullptr;
+    const Eigen::Vector3f* point = nullptr;
+    float range = 0.0f;
     bool blocked = false;  // a discontinuity: nothing farther on this side is the same surface
   };
+  const float rp = image.range(r, c);
+  const float noise_sq = range_noise_ * range_noise_;
   Side sides[2];
-  std::optional<Eigen::Vector3d> tangent;
+  std::optional<Eigen::Vector3f> tangent;
   for (int k = 1; k <= max_stencil_; ++k) {
     for (int s = 0; s < 2; ++s) {
       Side& side = sides[s];
@@ -63,25 +67,29 @@ std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r
       int rr = r + sign * k * dr;
       int cc = c + sign * k * dc;
       if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
-      cc = ((cc % cols_) + cols_) % cols_;  // columns wrap around 360 deg
+      cc = cc < 0 ? cc + cols_ : (cc >= cols_ ? cc - cols_ : cc);  // 360 deg wrap
       if (image.empty(rr, cc)) continue;
-      const Eigen::Vector3d& q = image.point(rr, cc);
+      const Eigen::Vector3f& q = image.point(rr, cc);
+      const float rq = image.range(rr, cc);
       // Continuity is judged against the previous pixel of the chain (a wide stencil would
       // otherwise tolerate a jump to another surface), and a widened tangent must stay on the
       // line it started (so it stops at a corner instead of mixing two planes).
-      const Eigen::Vector3d& prev = side.point ? *side.point : p;
-      if (!Continuous(prev, prev.norm(), q, image.range(rr, cc)) ||
-          (side.point && (q - p).cross(prev - p).norm() > range_noise_ * (prev - p).norm())) {
+      const Eigen::Vector3f& prev = side.point ? *side.point : p;
+      const float r_prev = side.point ? side.range : rp;
+      if (!Continuous(prev, r_prev, q, rq) ||
+          (side.point &&
+           (q - p).cross(prev - p).squaredNorm() > noise_sq * (prev - p).squaredNorm())) {
         // Paper: a pixel next to a range discontinuity has no normal.
         if (!side.point) return std::nullopt;
         side.blocked = true;
         continue;
       }
       side.point = &q;
+      side.range = rq;
     }
     // One-sided differences at the image border or next to a discontinuity use the centre.
-    const Eigen::Vector3d& a = sides[0].point ? *sides[0].point : p;
-    const Eigen::Vector3d& b = sides[1].point ? *sides[1].point : p;
+    const Eigen::Vector3f& a = sides[0].point ? *sides[0].point : p;
+    const Eigen::Vector3f& b = sides[1].point ? *sides[1].point : p;
     if (!sides[0].point && !sides[1].point) continue;
     tangent = b - a;
     if (sides[0].point && sides[1].point &&
@@ -95,19 +103,18 @@ std::optional<Eigen::Vector3d> NormalMap::Tangent(const RangeImage& image, int r
 void NormalMap::ComputeRow(const RangeImage& image, int r) {
   for (int c = 0; c < cols_; ++c) {
     if (image.empty(r, c)) continue;
-    const std::optional<Eigen::Vector3d> t_u = Tangent(image, r, c, 0, 1);
+    const std::optional<Eigen::Vector3f> t_u = Tangent(image, r, c, 0, 1);
     if (!t_u) continue;
-    const std::optional<Eigen::Vector3d> t_v = Tangent(image, r, c, 1, 0);
+    const std::optional<Eigen::Vector3f> t_v = Tangent(image, r, c, 1, 0);
     if (!t_v) continue;
     // Paper eq. (normal vector).
-    Eigen::Vector3d n = t_u->cross(*t_v);
-    const double norm = n.norm();
+    Eigen::Vector3f n = t_u->cross(*t_v);
+    const float norm = n.norm();
     if (!(norm > min_tangent_sine_ * t_u->norm() * t_v->norm())) continue;
     n /= norm;
-    const Eigen::Vector3d& p = image.point(r, c);
-    if (n.dot(p) > 0.0) n = -n;  // paper eq. (normal flipping): face the sensor
+    if (n.dot(image.point(r, c)) > 0.0f) n = -n;  // paper eq. (normal flipping): face the sensor
     const std::size_t pixel = static_cast<std::size_t>(r) * cols_ + c;
-    normals_[pixel] = n.cast<float>();
+    normals_[pixel] = n;
     valid_[pixel] = 1;
   }
 }

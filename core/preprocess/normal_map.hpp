@@ -32,16 +32,18 @@ class NormalMap {
 
  private:
   void ComputeRow(const RangeImage& image, int r);
-  std::optional<Eigen::Vector3d> Tangent(const RangeImage& image, int r, int c, int dr,
+  // Single precision: centimetre geometry within 100 m loses nothing, and it halves the
+  // memory traffic of the stencil walk that dominates this stage.
+  std::optional<Eigen::Vector3f> Tangent(const RangeImage& image, int r, int c, int dr,
                                          int dc) const;
-  bool Continuous(const Eigen::Vector3d& p, double rp, const Eigen::Vector3d& q, double rq) const;
+  bool Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q, float rq) const;
 
   int rows_;
   int cols_;
-  double cot_min_incidence_;
-  double range_noise_;
-  double min_tangent_sine_;
-  double min_baseline_;
+  float cot_min_incidence_;
+  float range_noise_;
+  float min_tangent_sine_;
+  float min_baseline_;
   int max_stencil_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> valid_;

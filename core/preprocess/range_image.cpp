@@ -155,7 +155,7 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   const std::size_t pixels = static_cast<std::size_t>(rows_) * cols_;
   index_.assign(pixels, -1);
   range_.assign(pixels, 0.0f);
-  point_.assign(pixels, Eigen::Vector3d::Zero());
+  point_.assign(pixels, Eigen::Vector3f::Zero());
   pixel_of_.assign(n, -1);
 
   // Pixels of all points in parallel (the atan2 is most of the cost), then the nearest-wins
@@ -169,13 +169,16 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
     const int pixel = pixel_of_[i];
     if (pixel < 0) continue;
     // Strictly nearer replaces: on a tie the earlier (lower) index keeps the pixel.
-    if (index_[pixel] < 0 || points[i].squaredNorm() < point_[pixel].squaredNorm()) {
+    if (index_[pixel] < 0 ||
+        points[i].squaredNorm() < points[static_cast<std::size_t>(index_[pixel])].squaredNorm()) {
       index_[pixel] = static_cast<int>(i);
-      point_[pixel] = points[i];
     }
   }
   for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
-    if (index_[pixel] >= 0) range_[pixel] = static_cast<float>(point_[pixel].norm());
+    if (index_[pixel] < 0) continue;
+    const Eigen::Vector3d& p = points[static_cast<std::size_t>(index_[pixel])];
+    point_[pixel] = p.cast<float>();
+    range_[pixel] = static_cast<float>(p.norm());
   }
 }
 

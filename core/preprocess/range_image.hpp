@@ -33,8 +33,8 @@ class RangeImage {
   // Index of the point that owns pixel (r, c), -1 if empty.
   int index(int r, int c) const { return index_[Flat(r, c)]; }
   float range(int r, int c) const { return range_[Flat(r, c)]; }  // 0 if empty
-  // The owning point (a copy, contiguous for the normal map); zero if empty.
-  const Eigen::Vector3d& point(int r, int c) const { return point_[Flat(r, c)]; }
+  // The owning point (a single-precision copy, contiguous for the normal map); zero if empty.
+  const Eigen::Vector3f& point(int r, int c) const { return point_[Flat(r, c)]; }
   bool empty(int r, int c) const { return index_[Flat(r, c)] < 0; }
   // Flat pixel r * cols + c that point i fell into (whether it won it or not), -1 if none.
   int pixel_of(std::size_t i) const { return pixel_of_[i]; }
@@ -60,7 +60,7 @@ class RangeImage {
   std::vector<int> pixel_of_;
   std::vector<int> index_;
   std::vector<float> range_;
-  std::vector<Eigen::Vector3d> point_;
+  std::vector<Eigen::Vector3f> point_;
   std::vector<double> vertical_angles_rad_;
 };
 

@@ -29,14 +29,13 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
   const std::size_t n = source_world.size();
   std::vector<const MapPoint*> match(n, nullptr);
   std::vector<PairKind> kind(n, PairKind::kNone);
-  const double max_sq = max_distance * max_distance;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
       const std::optional<PointClass> wanted =
           ClassWise(mode) ? std::optional<PointClass>(label) : std::nullopt;
-      const MapPoint* q = map.ClosestNeighbour(source_world[i], wanted);
-      if (q == nullptr || (q->position - source_world[i]).squaredNorm() > max_sq) continue;
+      const MapPoint* q = map.ClosestNeighbour(source_world[i], wanted, max_distance);
+      if (q == nullptr) continue;
       match[i] = q;
       kind[i] = Classify(mode, label, *q);
     }

@@ -59,18 +59,20 @@ LinearSystem PlanarSystem(const std::vector<Correspondence>& pairs,
   });
 }
 
-// Point-to-point: r = s - q, J = [I, -Hat(s)] (paper eq. pt2pt).
+// Point-to-point: r = s - q, J = [I, -Hat(s)] (paper eq. pt2pt), each residual seen through
+// the 3x3 metric W (identity, or the degeneracy weighting of the planar analysis).
 LinearSystem PointSystem(const std::vector<Correspondence>& pairs, double weight,
-                         double kernel_scale) {
+                         const Eigen::Matrix3d& W, double kernel_scale) {
   return ReduceDeterministic(pairs.size(), [&](std::size_t i, LinearSystem& acc) {
     const Correspondence& c = pairs[i];
     const Eigen::Vector3d r = c.source - c.target;
     Eigen::Matrix<double, 3, 6> J;
     J << Eigen::Matrix3d::Identity(), -Hat(c.source);
     const double w = weight * RobustWeight(r.squaredNorm(), kernel_scale);
-    acc.H.noalias() += w * J.transpose() * J;
-    acc.b.noalias() += w * J.transpose() * r;
-    acc.chi2 += w * r.squaredNorm();
+    const Eigen::Matrix<double, 6, 3> JtW = J.transpose() * W;
+    acc.H.noalias() += w * JtW * J;
+    acc.b.noalias() += w * JtW * r;
+    acc.chi2 += w * r.dot(W * r);
   });
 }
 
@@ -97,6 +99,15 @@ void RemapDegenerateTranslation(const DegeneracyReport& report, Vector6d& dx) {
     }
   }
   dx.head<3>() = P * dx.head<3>();
+}
+
+// Degeneracy weighting of a point residual: its component along eigen-direction i is scaled
+// like a planar normal along it, by lambda_i / lambda_max.
+Eigen::Matrix3d PointResidualMetric(const DegeneracyReport& report) {
+  const double lambda_max = report.eigenvalues.maxCoeff();
+  if (!(lambda_max > 0.0)) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d scale = report.eigenvalues / lambda_max;
+  return report.eigenvectors * scale.asDiagonal() * report.eigenvectors.transpose();
 }
 
 void Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
@@ -126,20 +137,27 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     // Paper eqs. (C_t, w_t): the point weights come from the planar correspondences alone.
     const DegeneracyReport planar_report = AnalyseTranslation(
         PlanarTranslationHessian(pairs.planar), config.degenerate_eigenvalue_ratio);
+    // Weighting trades information for robustness; a well-conditioned scene has nothing to
+    // gain from it, so by default it starts where the analysis finds a degenerate direction.
+    const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
     const std::vector<double> weights =
-        weighted ? DegeneracyWeights(pairs.planar, planar_report)
-                 : std::vector<double>(pairs.planar.size(), 1.0);
+        weigh ? DegeneracyWeights(pairs.planar, planar_report)
+              : std::vector<double>(pairs.planar.size(), 1.0);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
+    const Eigen::Matrix3d point_metric =
+        weigh && config.weight_point_residuals ? PointResidualMetric(planar_report)
+                                                  : Eigen::Matrix3d::Identity();
     LinearSystem system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
-    system += PointSystem(pairs.point, 1.0 - alpha, kernel_scale);
+    system += PointSystem(pairs.point, 1.0 - alpha, point_metric, kernel_scale);
 
-    // Observability of the whole weighted problem: edge and unknown points may pin a direction
-    // the planes leave free, so only a direction no residual constrains keeps the prediction.
     const DegeneracyReport report =
         AnalyseTranslation(system.H.topLeftCorner<3, 3>(), config.degenerate_eigenvalue_ratio);
     const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
     Vector6d dx = -H.ldlt().solve(system.b);
-    if (remap) RemapDegenerateTranslation(report, dx);
+    // Remapping follows the geometry's own observability (the unweighted planar analysis):
+    // the weights make well-observed directions look weak, and point pairs along a corridor
+    // pull towards the rings that move with the sensor rather than constrain it.
+    if (remap && !pairs.planar.empty()) RemapDegenerateTranslation(planar_report, dx);
     if (!dx.allFinite()) break;
     const Eigen::Isometry3d step = ExpSE3(dx);
     Transform(step, source_world);

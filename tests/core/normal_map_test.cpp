@@ -49,7 +49,7 @@ PlaneResult CheckPlane(const Eigen::Vector3d& normal_towards_sensor, double offs
       const Eigen::Vector3d n = normals.normal(r, c).cast<double>();
       EXPECT_NEAR(n.norm(), 1.0, 1e-6);
       result.worst_angle_deg = std::max(result.worst_angle_deg, AngleDeg(n, normal_towards_sensor));
-      if (n.dot(image.point(r, c)) > 0.0) result.all_face_sensor = false;
+      if (n.dot(image.point(r, c).cast<double>()) > 0.0) result.all_face_sensor = false;
     }
   }
   return result;
@@ -118,7 +118,7 @@ TEST(NormalMap, DepthDiscontinuityIsInvalid) {
         ++interior_wall;
         EXPECT_LT(AngleDeg(normals.normal(r, c).cast<double>(), {-1, 0, 0}), 1.0);
       }
-      if (s == 10 && normals.valid(r, c) && image.point(r, c).x() < 3.0 + 1e-9) {
+      if (s == 10 && normals.valid(r, c) && image.point(r, c).x() < 3.0f + 1e-6f) {
         ++interior_box;
       }
     }

@@ -40,7 +40,7 @@ TEST(RangeImage, RingAndColumnRaysLandInTheirPixel) {
     ASSERT_GE(owner, 0);
     // Whoever owns the pixel is the nearest of the points that fell in it.
     EXPECT_LE(image.range(r, c), static_cast<float>(points[i].norm()));
-    EXPECT_EQ(image.point(r, c), points[static_cast<std::size_t>(owner)]);
+    EXPECT_EQ(image.point(r, c), points[static_cast<std::size_t>(owner)].cast<float>());
     EXPECT_FLOAT_EQ(image.range(r, c),
                     static_cast<float>(points[static_cast<std::size_t>(owner)].norm()));
   }

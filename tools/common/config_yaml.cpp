@@ -134,6 +134,8 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("min_motion_threshold", c.min_motion_threshold);
   s.Get("degenerate_eigenvalue_ratio", c.degenerate_eigenvalue_ratio);
   s.Get("remap_degenerate_directions", c.remap_degenerate_directions);
+  s.Get("weight_point_residuals", c.weight_point_residuals);
+  s.Get("weight_always", c.weight_always);
   s.Get("min_correspondences", c.min_correspondences);
   s.Get("covariance_regularisation", c.covariance_regularisation);
   s.RejectUnknownKeys();
