@@ -36,6 +36,7 @@ class NormalMap {
   // memory traffic of the stencil walk that dominates this stage.
   std::optional<Eigen::Vector3f> Tangent(const RangeImage& image, int r, int c, int dr,
                                          int dc) const;
+  int ColumnStride(float range) const;
   bool Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q, float rq) const;
 
   int rows_;

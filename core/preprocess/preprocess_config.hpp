@@ -43,11 +43,11 @@ struct ClassifierConfig {
 struct DownsampleConfig {
   // Initial voxel sizes in metres, indexed by PointClass (unknown, ground, roof, wall, edge).
   // Edges are rare and constrain rotation best, so they keep the finest grid.
-  double initial_voxel_unknown = 1.0;
+  double initial_voxel_unknown = 2.0;
   double initial_voxel_ground = 0.8;
   double initial_voxel_roof = 0.8;
   double initial_voxel_wall = 0.5;
-  double initial_voxel_edge = 1.0;
+  double initial_voxel_edge = 2.0;
   std::size_t target_points = 6000;  // kept points per scan the adaptation aims for
   double tolerance = 0.05;           // relative band around the target with no update
   double min_voxel = 0.05;           // metres, clamp of every class's voxel size
