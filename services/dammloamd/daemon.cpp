@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <condition_variable>
 #include <cstdio>
 #include <tuple>
 
@@ -12,7 +11,8 @@
 #include "services/dds/topics.hpp"
 
 #ifdef DAMMLOAM_HAVE_BACKEND
-#include "core/backend/loop_closing_backend.hpp"
+#include "services/dammloamd/backend_stage.hpp"
+#include "services/dammloamd/map_localization.hpp"
 #endif
 
 namespace dammloam::daemon {
@@ -44,82 +44,20 @@ dds::CloudLimits InputLimits(const DaemonConfig& config) {
 }  // namespace
 
 #ifdef DAMMLOAM_HAVE_BACKEND
-// The loop-closure back-end on its own thread: AddScan() is cheap (called by the publish
-// stage), Process() (retrieval, verification, Ceres) runs here and never blocks odometry.
-class LoopClosureStage {
- public:
-  LoopClosureStage(const dds::Participant& participant, const DaemonConfig& config)
-      : map_frame_(config.map_frame),
-        topic_(participant, dammloam_msg_LoopClosure_desc, config.topics.loop_closure,
-               dds::LoopClosureQos()),
-        writer_(participant, topic_, dds::LoopClosureQos()) {}
-
-  void Start() { thread_ = std::thread([this] { Loop(); }); }
-  void Stop() {
-    {
-      std::lock_guard lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_one();
-    if (thread_.joinable()) thread_.join();
-  }
-  void AddScan(const OdometryResult& result) {
-    backend_.AddScan(result);
-    wake_.notify_one();
-  }
-
- private:
-  void Loop() {
-    std::unique_lock lock(mutex_);
-    while (!stop_) {
-      wake_.wait_for(lock, std::chrono::milliseconds(200));
-      if (stop_) break;
-      lock.unlock();
-      try {
-        for (const auto& event : backend_.Process()) Publish(event);
-      } catch (const std::exception& e) {
-        spdlog::error("loop closure back-end: {}", e.what());
-      }
-      lock.lock();
-    }
-  }
-
-  void Publish(const backend::LoopEvent& e) {
-    dammloam_msg_LoopClosure msg{};
-    msg.header.stamp = dds::ToMsgTime(e.query_stamp);
-    msg.header.frame_id = const_cast<char*>(map_frame_.c_str());
-    msg.header.seq = seq_++;
-    msg.query_keyframe = e.query_keyframe;
-    msg.match_keyframe = e.candidate_keyframe;
-    msg.query_stamp = dds::ToMsgTime(e.query_stamp);
-    msg.match_stamp = dds::ToMsgTime(e.candidate_stamp);
-    msg.relative_pose = dds::ToMsgPose(e.T_candidate_query);
-    msg.score = e.scan_context_distance;
-    msg.accepted = e.accepted;
-    msg.reason = const_cast<char*>(e.reason.c_str());
-    writer_.Write(msg);
-    spdlog::info("loop candidate keyframes {} -> {}: {} ({})", e.query_keyframe,
-                 e.candidate_keyframe, e.accepted ? "accepted" : "rejected", e.reason);
-  }
-
-  std::string map_frame_;
-  dds::Topic topic_;
-  dds::Writer<dammloam_msg_LoopClosure> writer_;
-  backend::LoopClosingBackend backend_;
-  std::uint64_t seq_ = 0;
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stop_ = false;
-  std::thread thread_;
-};
 bool Daemon::LoopClosureBuiltIn() { return true; }
 #else
+// Never instantiated without the back-end: they only let the wiring below compile.
 class LoopClosureStage {
  public:
   void Start() {}
   void Stop() {}
   void AddScan(const OdometryResult&) {}
 };
+struct MapPose {
+  Eigen::Isometry3d T_map_sensor = Eigen::Isometry3d::Identity();
+  bool localized = false;
+};
+class MapLocalization {};
 bool Daemon::LoopClosureBuiltIn() { return false; }
 #endif
 
@@ -149,8 +87,18 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
       waitset_(participant_) {
   waitset_.Attach(points_reader_);
 #ifdef DAMMLOAM_HAVE_BACKEND
-  if (config.loop_closure) loop_closure_ = std::make_unique<LoopClosureStage>(participant_, config);
+  // The shutdown save needs keyframes even when loop closure is off.
+  if (config.loop_closure || !config.save_map_on_shutdown.empty()) {
+    loop_closure_ = std::make_unique<LoopClosureStage>(participant_, config, config.loop_closure);
+  }
+  localization_ = std::make_unique<MapLocalization>();
 #endif
+  commands_ = std::make_unique<CommandStage>(
+      participant_, config,
+      std::map<std::string, CommandHandler>{
+          {"save_map", [this](const std::string& dir) { return SaveMapCommand(dir); }},
+          {"relocalize", [this](const std::string& dir) { return RelocalizeCommand(dir); }}},
+      [this](const std::string& message) { CommandFailed(message); });
 }
 
 Daemon::~Daemon() { Stop(); }
@@ -158,6 +106,7 @@ Daemon::~Daemon() { Stop(); }
 void Daemon::Start() {
   PublishStatus(false, dammloam_msg_STATE_WAITING);
   if (loop_closure_) loop_closure_->Start();
+  commands_->Start();
   threads_.emplace_back([this] { PublishLoop(); });
   threads_.emplace_back([this] { RegistrationLoop(); });
   threads_.emplace_back([this] { FeatureLoop(); });
@@ -170,7 +119,9 @@ void Daemon::Stop() {
   waitset_.Wake();
   for (auto& thread : threads_) thread.join();
   threads_.clear();
+  commands_->Stop();  // before the back-end: a save_map in work waits for the back-end thread
   if (loop_closure_) loop_closure_->Stop();
+  SaveOnShutdown();
   PublishStatus(false, dammloam_msg_STATE_STOPPING);
 }
 
@@ -287,9 +238,7 @@ void Daemon::PublishLoop() {
     try {
       if (item) Publish(*item);
       if (std::chrono::steady_clock::now() >= next_status) {
-        const auto stats = stats_.Snapshot();
-        PublishStatus(false, stats.processed == 0 ? dammloam_msg_STATE_WAITING
-                                                  : dammloam_msg_STATE_TRACKING);
+        PublishStatus(false, RunningState());
         next_status += period;
         if (next_status < std::chrono::steady_clock::now()) {
           next_status = std::chrono::steady_clock::now() + period;
@@ -303,9 +252,15 @@ void Daemon::PublishLoop() {
 
 void Daemon::Publish(const RegisteredScan& item) {
   const OdometryResult& r = item.result;
-  const std::string status_name(Name(r.status));
+  // In localization mode the pose and status say where the scan is in the loaded map.
+  const std::optional<MapPose> located = Locate(r);
+  const Eigen::Isometry3d& T = located ? located->T_map_sensor : r.T_world_sensor;
+  const std::string status_name = !located           ? std::string(Name(r.status))
+                                  : located->localized ? "localized"
+                                                       : "relocalizing";
   dammloam_msg_Odometry odom = dds::ToMsgOdometry(r, config_.map_frame, item.meta.frame_id,
                                                   status_name);
+  odom.pose = dds::ToMsgPose(T);
   odom.header.stamp = item.meta.stamp;
   odom.header.seq = published_;
   odom.input_seq = item.meta.seq;
@@ -314,29 +269,92 @@ void Daemon::Publish(const RegisteredScan& item) {
   stats_.Processed(odom.latency_ms);
 
   const int every = config_.labelled_cloud_every;
-  if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0 &&
-      !r.deskewed_points.empty() && r.labels.size() == r.deskewed_points.size()) {
-    dds::LabelledPoints points;
-    points.points_sensor = r.deskewed_points;
-    points.points_map.reserve(r.deskewed_points.size());
-    for (const auto& p : r.deskewed_points) points.points_map.push_back(r.T_world_sensor * p);
-    points.normals = r.normals;
-    points.labels = r.labels;
-    dds::CloudMessage cloud = dds::LabelledToCloud(points, item.meta.frame_id, item.meta.seq);
-    cloud.stamp = item.meta.stamp;
-    const dds::CloudView view(cloud);
-    dammloam_msg_LabelledCloud msg{};
-    msg.header.stamp = item.meta.stamp;
-    msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
-    msg.header.seq = published_;
-    msg.child_frame_id = const_cast<char*>(item.meta.frame_id.c_str());
-    msg.scan_index = r.scan_index;
-    msg.pose = dds::ToMsgPose(r.T_world_sensor);
-    msg.cloud = view.get();
-    labelled_writer_.Write(msg);
-  }
+  if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0) PublishLabelled(item, T);
   ++published_;
-  if (loop_closure_ && Registered(r.status)) loop_closure_->AddScan(r);
+  // A loaded map is never grown, and the back-end's own map stays as it was for save_map.
+  if (loop_closure_ && Registered(r.status) && !located) loop_closure_->AddScan(r);
+}
+
+void Daemon::PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d& T_map_sensor) {
+  const OdometryResult& r = item.result;
+  if (r.deskewed_points.empty() || r.labels.size() != r.deskewed_points.size()) return;
+  dds::LabelledPoints points;
+  points.points_sensor = r.deskewed_points;
+  points.points_map.reserve(r.deskewed_points.size());
+  for (const auto& p : r.deskewed_points) points.points_map.push_back(T_map_sensor * p);
+  points.normals = r.normals;
+  points.labels = r.labels;
+  dds::CloudMessage cloud = dds::LabelledToCloud(points, item.meta.frame_id, item.meta.seq);
+  cloud.stamp = item.meta.stamp;
+  const dds::CloudView view(cloud);
+  dammloam_msg_LabelledCloud msg{};
+  msg.header.stamp = item.meta.stamp;
+  msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
+  msg.header.seq = published_;
+  msg.child_frame_id = const_cast<char*>(item.meta.frame_id.c_str());
+  msg.scan_index = r.scan_index;
+  msg.pose = dds::ToMsgPose(T_map_sensor);
+  msg.cloud = view.get();
+  labelled_writer_.Write(msg);
+}
+
+std::optional<MapPose> Daemon::Locate(const OdometryResult& result) {
+#ifdef DAMMLOAM_HAVE_BACKEND
+  return localization_->Locate(result);
+#else
+  (void)result;
+  return std::nullopt;
+#endif
+}
+
+std::uint8_t Daemon::RunningState() const {
+  if (stats_.Snapshot().processed == 0) return dammloam_msg_STATE_WAITING;
+#ifdef DAMMLOAM_HAVE_BACKEND
+  if (localization_->Active()) return dammloam_msg_STATE_LOCALIZING;
+#endif
+  return dammloam_msg_STATE_TRACKING;
+}
+
+CommandOutcome Daemon::SaveMapCommand(const std::string& dir) {
+#ifdef DAMMLOAM_HAVE_BACKEND
+  if (!loop_closure_) {
+    return {false, "no map to save: the back-end is off (dammloamd.loop_closure is false and "
+                   "save_map_on_shutdown is empty)"};
+  }
+  return loop_closure_->RequestSave(dir).get();  // this thread waits, the back-end saves
+#else
+  (void)dir;
+  return {false, "no map to save: this dammloamd was built without the back-end"};
+#endif
+}
+
+CommandOutcome Daemon::RelocalizeCommand(const std::string& dir) {
+#ifdef DAMMLOAM_HAVE_BACKEND
+  return localization_->Load(dir);
+#else
+  (void)dir;
+  return {false, "cannot relocalize: this dammloamd was built without the back-end"};
+#endif
+}
+
+void Daemon::CommandFailed(const std::string& message) {
+  stats_.Error(message);
+  PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+}
+
+// Runs in Stop() after every thread has ended, so the map is complete on disk when the process
+// exits (SaveMap renames a finished directory into place).
+void Daemon::SaveOnShutdown() {
+  if (config_.save_map_on_shutdown.empty() || !loop_closure_) return;
+#ifdef DAMMLOAM_HAVE_BACKEND
+  const CommandOutcome outcome = loop_closure_->SaveNow(config_.save_map_on_shutdown);
+  if (outcome.ok) {
+    spdlog::info("shutdown: {}", outcome.message);
+  } else {
+    spdlog::error("shutdown: {}", outcome.message);
+    stats_.Error("save_map_on_shutdown: " + outcome.message);
+  }
+#endif
 }
 
 void Daemon::PublishStatus(bool error_event, std::uint8_t state) {

@@ -2,12 +2,14 @@
 // dammloamd's pipeline: four stages on their own threads joined by bounded SPSC queues
 //   receive+validate -q1-> features -q2-> registration + map update -q3-> publish
 // plus an optional loop-closure back-end thread fed by the publish stage (never on the odometry
-// path). The feature stage reads the orientation predicted by the registration stage after the
+// path), and a command thread that answers Command samples (save_map runs on the back-end
+// thread, relocalize loads the map there and hands it to the publish stage). The feature stage reads the orientation predicted by the registration stage after the
 // previous scan, so in lock-step it makes exactly the calls OdometryPipeline::Process makes.
 #include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "core/odometry/odometry.hpp"
 #include "core/odometry/odometry_config.hpp"
 #include "core/preprocess/feature_extractor.hpp"
+#include "services/dammloamd/command_stage.hpp"
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dammloamd/stage_queue.hpp"
@@ -43,7 +46,10 @@ struct RegisteredScan {
   OdometryResult result;
 };
 
-class LoopClosureStage;  // defined in daemon.cpp when the back-end is built in
+// Defined in backend_stage.hpp / map_localization.hpp when the back-end is built in.
+class LoopClosureStage;
+class MapLocalization;
+struct MapPose;
 
 class Daemon {
  public:
@@ -53,7 +59,9 @@ class Daemon {
   Daemon& operator=(const Daemon&) = delete;
 
   void Start();
-  // Stops every thread (each waits at most ~100 ms per wake-up) and publishes a final Status.
+  // Stops every thread (each waits at most ~100 ms per wake-up, a command in work is finished),
+  // saves the map if save_map_on_shutdown is set (complete on return) and publishes a final
+  // Status.
   void Stop();
 
   StatusSnapshot Stats() const { return stats_.Snapshot(); }
@@ -70,7 +78,16 @@ class Daemon {
               const std::string& problem);
   void Drop(const ScanMeta& meta, const std::string& where);
   void Publish(const RegisteredScan& item);
+  void PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d& T_map_sensor);
+  std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
+  std::uint8_t RunningState() const;
+
+  // Command handlers (command thread).
+  CommandOutcome SaveMapCommand(const std::string& dir);
+  CommandOutcome RelocalizeCommand(const std::string& dir);
+  void CommandFailed(const std::string& message);
+  void SaveOnShutdown();
 
   DaemonConfig config_;
   OdometryConfig odometry_config_;
@@ -101,7 +118,9 @@ class Daemon {
   std::uint64_t status_seq_ = 0;
   std::uint64_t published_ = 0;
 
-  std::unique_ptr<LoopClosureStage> loop_closure_;
+  std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
+  std::unique_ptr<MapLocalization> localization_;    // null: built without the back-end
+  std::unique_ptr<CommandStage> commands_;
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;
 };

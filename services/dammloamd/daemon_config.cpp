@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <set>
 #include <stdexcept>
 
@@ -53,25 +55,29 @@ void ReadSensor(const YAML::Node& node, DaemonConfig& c) {
 void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   const std::string path = "dammloamd.topics";
   RejectUnknownKeys(node, path, {"points", "odometry", "labelled_cloud", "loop_closure", "status",
-                                 "command"});
+                                 "command", "command_reply"});
   Read(node, "points", path, t.points);
   Read(node, "odometry", path, t.odometry);
   Read(node, "labelled_cloud", path, t.labelled_cloud);
   Read(node, "loop_closure", path, t.loop_closure);
   Read(node, "status", path, t.status);
   Read(node, "command", path, t.command);
+  Read(node, "command_reply", path, t.command_reply);
 }
 
 DaemonConfig ParseDaemon(const YAML::Node& node) {
   DaemonConfig c;
   const std::string path = "dammloamd";
   RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
-                                 "queues", "publish", "loop_closure"});
+                                 "queues", "publish", "loop_closure", "save_map_on_shutdown"});
   if (!node) return c;
   Read(node, "domain", path, c.domain);
   Read(node, "node_name", path, c.node_name);
   Read(node, "map_frame", path, c.map_frame);
   Read(node, "loop_closure", path, c.loop_closure);
+  std::string save_map;
+  Read(node, "save_map_on_shutdown", path, save_map);
+  c.save_map_on_shutdown = save_map;
   ReadSensor(node["sensor"], c);
   ReadTopics(node["topics"], c.topics);
 
@@ -94,6 +100,31 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   Read(publish, "labelled_cloud_every", "dammloamd.publish", c.labelled_cloud_every);
   Read(publish, "status_period", "dammloamd.publish", c.status_period);
   return c;
+}
+
+// The shutdown save happens when nobody is watching any more: catch what would make it fail
+// (a typo in the parent, a file or foreign directory at the target) when the daemon starts.
+void ValidateSaveOnShutdown(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  const std::string key = "dammloamd.save_map_on_shutdown";
+  if (dir.empty()) return;
+#ifndef DAMMLOAM_HAVE_BACKEND
+  Fail(key, "needs the back-end, which this build does not include");
+#endif
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) Fail(key, "(" + dir.string() + ") exists and is not a directory");
+    if (!fs::is_empty(dir, ec) && !fs::exists(dir / "map.json", ec)) {
+      Fail(key, "(" + dir.string() + ") is a directory without map.json: refusing to replace it");
+    }
+  }
+  fs::path target = fs::absolute(dir, ec).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();  // "maps/run1/" names run1
+  const fs::path parent = target.parent_path();
+  if (!fs::is_directory(parent, ec) || ::access(parent.c_str(), W_OK) != 0) {
+    Fail(key, "(" + dir.string() + "): parent directory " + parent.string() +
+                  " does not exist or is not writable");
+  }
 }
 
 }  // namespace
@@ -141,9 +172,11 @@ void ValidateDaemonConfig(const DaemonConfig& c) {
   if (c.labelled_cloud_every < 0) Fail("dammloamd.publish.labelled_cloud_every", "must be >= 0");
   if (!(c.status_period > 0.0)) Fail("dammloamd.publish.status_period", "must be positive");
   for (const std::string* topic : {&c.topics.points, &c.topics.odometry, &c.topics.labelled_cloud,
-                                   &c.topics.loop_closure, &c.topics.status, &c.topics.command}) {
+                                   &c.topics.loop_closure, &c.topics.status, &c.topics.command,
+                                   &c.topics.command_reply}) {
     if (topic->empty()) Fail("dammloamd.topics", "names must not be empty");
   }
+  ValidateSaveOnShutdown(c.save_map_on_shutdown);
 }
 
 }  // namespace dammloam::daemon

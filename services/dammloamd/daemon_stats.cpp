@@ -44,6 +44,15 @@ void DaemonStats::Rejected(const std::string& code, const std::string& message) 
   counters_.last_error_wall_time = now;
 }
 
+void DaemonStats::Error(const std::string& message) {
+  const double now = std::chrono::duration<double>(
+                         std::chrono::system_clock::now().time_since_epoch()).count();
+  std::lock_guard lock(mutex_);
+  ++counters_.errors;
+  counters_.last_error = message;
+  counters_.last_error_wall_time = now;
+}
+
 StatusSnapshot DaemonStats::Snapshot() const {
   std::lock_guard lock(mutex_);
   StatusSnapshot s = counters_;

@@ -22,6 +22,8 @@ class DaemonStats {
   void Processed(double latency_ms);
   void Dropped(const std::string& where);
   void Rejected(const std::string& code, const std::string& message);
+  // An error that is not about a scan (a failed command): counted and shown as last_error.
+  void Error(const std::string& message);
   StatusSnapshot Snapshot() const;
 
  private:

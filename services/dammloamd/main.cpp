@@ -1,5 +1,5 @@
-// dammloamd: subscribes to PointCloud, publishes Odometry, LabelledCloud, Status (and
-// LoopClosure when the back-end is built in) over Cyclone DDS.
+// dammloamd: subscribes to PointCloud and Command, publishes Odometry, LabelledCloud, Status,
+// CommandReply (and LoopClosure when the back-end is built in) over Cyclone DDS.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -105,6 +105,9 @@ int main(int argc, char** argv) {
                  d.domain, d.topics.points, d.topics.odometry, d.topics.labelled_cloud,
                  d.topics.status, d.sensor_name, d.sensor.rings, d.sensor.columns,
                  d.loop_closure && dammloam::daemon::Daemon::LoopClosureBuiltIn() ? "on" : "off");
+    spdlog::info("commands on {} (save_map, relocalize), replies on {}; map saved on shutdown: {}",
+                 d.topics.command, d.topics.command_reply,
+                 d.save_map_on_shutdown.empty() ? "no" : d.save_map_on_shutdown.string());
     int signal_number = 0;
     sigwait(&stop_signals, &signal_number);
     spdlog::info("signal {} received, stopping", signal_number);

@@ -13,6 +13,7 @@ struct TopicNames {
   std::string loop_closure = "dammloam_loop_closure";      // LoopClosure out
   std::string status = "dammloam_status";                  // Status out
   std::string command = "dammloam_command";                // Command in
+  std::string command_reply = "dammloam_command_reply";    // CommandReply out
 };
 
 // Reliable everywhere: a reliable writer also serves best-effort readers (not the reverse).
@@ -26,5 +27,7 @@ inline TopicQos LabelledCloudQos(int depth = 2) { return {true, depth, false}; }
 inline TopicQos LoopClosureQos(int depth = 100) { return {true, depth, true}; }
 inline TopicQos StatusQos(int depth = 1) { return {true, depth, true}; }
 inline TopicQos CommandQos(int depth = 10) { return {true, depth, false}; }
+// Replies are latched so a commander whose reader matched late still gets its answer.
+inline TopicQos CommandReplyQos(int depth = 10) { return {true, depth, true}; }
 
 }  // namespace dammloam::dds

@@ -38,6 +38,7 @@ struct ReceivedPose {
 
 struct ReceivedStatus {
   bool is_error_event = false;
+  std::uint8_t state = 0;
   std::string last_error;
   std::uint64_t received = 0, processed = 0, dropped = 0, rejected = 0;
 };
@@ -90,7 +91,7 @@ class DdsTestClient {
                        m.status});
     }, 64);
     status_.TakeEach([this](const dammloam_msg_Status& m, const dds_sample_info_t&) {
-      statuses.push_back({m.is_error_event, m.last_error, m.scans_received, m.scans_processed,
+      statuses.push_back({m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
                           m.scans_dropped, m.scans_rejected});
     }, 64);
     labelled_.TakeEach([this](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {

@@ -45,5 +45,25 @@ TEST(DaemonConfig, MistakesAreReportedWithTheKey) {
             std::string::npos);
 }
 
+TEST(DaemonConfig, SaveMapOnShutdownIsCheckedAtStartUp) {
+  EXPECT_TRUE(LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml")
+                  .daemon.save_map_on_shutdown.empty()) << "off by default";
+  const auto dir = test::TestDir("config-save");
+  std::ofstream(dir / "file.txt") << "x\n";
+  std::filesystem::create_directories(dir / "foreign");
+  std::ofstream(dir / "foreign" / "notes.txt") << "x\n";
+  const std::string key = "'dammloamd.save_map_on_shutdown'";
+  for (const std::string bad : {"file.txt", "foreign", "missing-parent/map"}) {
+    const std::string error =
+        LoadError("dammloamd:\n  save_map_on_shutdown: " + (dir / bad).string() + "\n");
+    EXPECT_NE(error.find(key), std::string::npos) << bad << ": " << error;
+    EXPECT_NE(error.find(bad), std::string::npos) << error;
+  }
+  // A new directory in an existing writable one is fine (a trailing slash too).
+  EXPECT_EQ(LoadError("dammloamd:\n  save_map_on_shutdown: " + (dir / "map").string() + "/\n"), "");
+  EXPECT_NE(LoadError("dammloamd:\n  topics:\n    command_reply: \"\"\n")
+                .find("names must not be empty"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace dammloam::daemon

@@ -1,0 +1,256 @@
+// dammloamd's Command topic over DDS (loopback, own domain per test): save_map writes a map the
+// map store loads, failures (bad directory, missing or corrupt map, unknown command) are
+// answered with an error while poses keep coming, relocalize switches to localization mode in
+// a saved map, and save_map_on_shutdown leaves a complete map after SIGTERM.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+#include <fstream>
+#include <regex>
+
+#include "services/dammloamd/daemon.hpp"
+#include "tests/system/child_process.hpp"
+#include "tests/system/command_test_client.hpp"
+#include "tests/system/dds_test_client.hpp"
+#include "tests/system/sim_sequence.hpp"
+#include "tools/mapstore/map_store.hpp"
+
+namespace dammloam::test {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+constexpr milliseconds kTimeout(60000);  // sanitizer builds are slow
+constexpr int kScans = 45;               // 4.5 s of the zigzag drive (from rest): several keyframes
+
+daemon::DaemonConfig CommandTestConfig(std::uint32_t domain, const sim::Simulator& simulator) {
+  daemon::DaemonConfig config;
+  config.domain = domain;
+  config.sensor = simulator.sensor_model();
+  config.loop_closure = true;  // the back-end holds the map that save_map writes
+  config.labelled_cloud_every = 0;
+  config.status_period = 0.2;
+  return config;
+}
+
+// A daemon in this process with a pose client and a commander on its domain.
+struct Harness {
+  Harness(std::uint32_t domain, const sim::Simulator& sim)
+      : simulator(sim), daemon(CommandTestConfig(domain, sim), OdometryConfig{}),
+        client(domain), commander(domain) {
+    daemon.Start();
+    EXPECT_TRUE(client.WaitForDaemon(milliseconds(10000)));
+    EXPECT_TRUE(commander.WaitForDaemon(milliseconds(10000)));
+  }
+
+  // Publishes scan i (lock-step: waits for its pose) and returns that pose.
+  ReceivedPose Track(int i) {
+    const dds::CloudMessage cloud = dds::ScanToCloud(simulator.SimulateScan(i), "lidar",
+                                                     static_cast<std::uint64_t>(i));
+    client.Publish(cloud);
+    EXPECT_TRUE(client.WaitForPose(cloud.stamp, kTimeout)) << "no pose for scan " << i;
+    for (const ReceivedPose& p : client.poses) {
+      if (SameStamp(p.stamp, cloud.stamp)) return p;
+    }
+    return {};
+  }
+
+  ReceivedReply Call(std::uint64_t id, const std::string& name, const std::string& argument) {
+    const auto reply = commander.Call(id, name, argument, kTimeout);
+    EXPECT_TRUE(reply) << "no reply to " << name << " " << argument;
+    return reply.value_or(ReceivedReply{});
+  }
+
+  const sim::Simulator& simulator;
+  daemon::Daemon daemon;
+  DdsTestClient client;
+  CommandClient commander;
+};
+
+class DaemonCommands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    UseLoopbackDds();
+    if (!daemon::Daemon::LoopClosureBuiltIn()) GTEST_SKIP() << "built without the back-end";
+  }
+};
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
+  const auto dir = TestDir("cmd-save");
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  Harness h(91, simulator);
+  for (int i = 0; i < kScans; ++i) h.Track(i);
+
+  const ReceivedReply reply = h.Call(1, "save_map", (dir / "map").string());
+  EXPECT_TRUE(reply.ok) << reply.message;
+  EXPECT_EQ(reply.name, "save_map");
+  EXPECT_TRUE(Contains(reply.message, (dir / "map").string())) << reply.message;
+
+  const backend::MapData map = mapstore::LoadMap(dir / "map");
+  EXPECT_GE(map.keyframes.size(), 2u);
+  EXPECT_GT(map.global_points.size(), 1000u);
+  EXPECT_EQ(map.global_labels.size(), map.global_points.size());
+  for (const backend::Keyframe& kf : map.keyframes) EXPECT_FALSE(kf.descriptor.empty());
+  // Saving again replaces the map in place (atomic swap), leaving no staging directory.
+  EXPECT_TRUE(h.Call(2, "save_map", (dir / "map").string()).ok);
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(entry.path().filename(), "map") << "left behind: " << entry.path();
+  }
+  h.daemon.Stop();
+}
+
+TEST_F(DaemonCommands, FailedCommandsAreAnsweredWithErrorsWhileTrackingGoesOn) {
+  const auto dir = TestDir("cmd-errors");
+  const sim::Simulator simulator = SmallSimulator(8);
+  Harness h(92, simulator);
+
+  // Before any scan: the map is empty.
+  ReceivedReply reply = h.Call(1, "save_map", (dir / "early").string());
+  EXPECT_FALSE(reply.ok);
+  EXPECT_TRUE(Contains(reply.message, "empty")) << reply.message;
+  EXPECT_FALSE(fs::exists(dir / "early"));
+  for (int i = 0; i < 4; ++i) h.Track(i);
+
+  // A regular file as the target, and a target under it (cannot be created).
+  std::ofstream(dir / "precious.txt") << "not a map\n";
+  reply = h.Call(2, "save_map", (dir / "precious.txt").string());
+  EXPECT_FALSE(reply.ok);
+  EXPECT_TRUE(Contains(reply.message, "precious.txt")) << reply.message;
+  reply = h.Call(3, "save_map", (dir / "precious.txt" / "map").string());
+  EXPECT_FALSE(reply.ok);
+  EXPECT_TRUE(Contains(reply.message, "precious.txt")) << reply.message;
+  EXPECT_FALSE(h.Call(4, "save_map", "").ok);
+  std::string kept;
+  std::getline(std::ifstream(dir / "precious.txt"), kept);
+  EXPECT_EQ(kept, "not a map");
+
+  // Unknown command: named in the reply and in a Status error event.
+  reply = h.Call(5, "fly_to_the_moon", "now");
+  EXPECT_FALSE(reply.ok);
+  EXPECT_EQ(reply.name, "fly_to_the_moon");
+  EXPECT_TRUE(Contains(reply.message, "unknown command 'fly_to_the_moon'")) << reply.message;
+  EXPECT_TRUE(h.client.WaitForError("'fly_to_the_moon' failed", milliseconds(10000)));
+
+  // A missing and a corrupt map: errors naming the problem, the daemon stays in mapping mode.
+  reply = h.Call(6, "relocalize", (dir / "no-such-map").string());
+  EXPECT_FALSE(reply.ok);
+  EXPECT_TRUE(Contains(reply.message, "no-such-map")) << reply.message;
+  ASSERT_TRUE(h.Call(7, "save_map", (dir / "map").string()).ok);
+  fs::resize_file(dir / "map" / "keyframes.bin", fs::file_size(dir / "map" / "keyframes.bin") / 2);
+  reply = h.Call(8, "relocalize", (dir / "map").string());
+  EXPECT_FALSE(reply.ok);
+  EXPECT_TRUE(Contains(reply.message, "keyframes.bin")) << reply.message;
+
+  // Every request was answered exactly once, and poses keep coming, still from odometry.
+  h.commander.Poll();
+  EXPECT_EQ(h.commander.replies.size(), 8u);
+  for (int i = 4; i < 8; ++i) {
+    const ReceivedPose pose = h.Track(i);
+    EXPECT_TRUE(pose.registered);
+    EXPECT_EQ(pose.status, "ok") << "scan " << i;
+  }
+  h.daemon.Stop();
+  EXPECT_EQ(h.daemon.Stats().processed, 8u);
+}
+
+double Distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.translation() - b.translation()).norm();
+}
+
+TEST_F(DaemonCommands, RelocalizeTracksInTheSavedMapCloseToTheMappingRun) {
+  const auto dir = TestDir("cmd-relocalize");
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  // Mapping run: poses of every scan in the map frame, then the map.
+  std::vector<Eigen::Isometry3d> mapped;
+  {
+    Harness mapping(93, simulator);
+    for (int i = 0; i < kScans; ++i) mapped.push_back(mapping.Track(i).T);
+    ASSERT_TRUE(mapping.Call(1, "save_map", (dir / "map").string()).ok);
+    mapping.daemon.Stop();
+  }
+  // A second daemon starts mid-sequence, so its odometry frame is not the map frame.
+  constexpr int kStart = 25, kSwitch = 28;
+  Harness h(94, simulator);
+  for (int i = kStart; i < kSwitch; ++i) EXPECT_TRUE(h.Track(i).registered);
+  const double frame_offset = Distance(h.client.poses.back().T, mapped[kSwitch - 1]);
+  std::printf("odometry frame vs map frame before relocalize: %.3f m apart\n", frame_offset);
+  EXPECT_GT(frame_offset, 0.3) << "the test would not show a relocalization";
+
+  const ReceivedReply reply = h.Call(1, "relocalize", (dir / "map").string());
+  ASSERT_TRUE(reply.ok) << reply.message;
+  std::vector<double> errors;
+  for (int i = kSwitch; i < kScans; ++i) {
+    const ReceivedPose pose = h.Track(i);
+    if (pose.status == "localized") errors.push_back(Distance(pose.T, mapped[static_cast<std::size_t>(i)]));
+  }
+  std::sort(errors.begin(), errors.end());
+  ASSERT_FALSE(errors.empty()) << "no scan was localized";
+  const double median = errors[errors.size() / 2], worst = errors.back();
+  std::printf("relocalized daemon: %zu of %d scans localized; position error against the mapping "
+              "run: median %.3f m, max %.3f m\n", errors.size(), kScans - kSwitch, median, worst);
+  // Stated bounds: at least 80% of the scans localized; against the mapping run's poses a median
+  // error under 0.10 m and none over 0.30 m. Both runs carry odometry error (the mapping run is
+  // itself ~0.15 m off the ground truth here); the largest gap is at the map's far end.
+  // Measured (release): 17/17, median 0.05 m, max 0.245 m at the last scan.
+  EXPECT_GE(errors.size(), static_cast<std::size_t>(0.8 * (kScans - kSwitch)));
+  EXPECT_LT(median, 0.10);
+  EXPECT_LT(worst, 0.30);
+  EXPECT_TRUE(h.client.WaitUntil([&] {
+    return !h.client.statuses.empty() &&
+           h.client.statuses.back().state == dammloam_msg_STATE_LOCALIZING;
+  }, milliseconds(5000)));
+  h.daemon.Stop();
+  // Localization does not touch the saved map.
+  EXPECT_NO_THROW(mapstore::LoadMap(dir / "map"));
+}
+
+TEST_F(DaemonCommands, SigtermSavesTheMapOnShutdownCompletely) {
+  constexpr std::uint32_t kDomain = 95;
+  constexpr int kShortScans = 12;
+  if (!ToolExists("dammloamd")) GTEST_SKIP() << "dammloamd not built in " << DAMMLOAM_BIN_DIR;
+  const auto dir = TestDir("cmd-shutdown");
+  const sim::Simulator simulator = SmallSimulator(kShortScans);
+  WriteSequence(simulator, kShortScans, dir / "seq");
+  // Loop closure off: the back-end still runs, for the map only.
+  std::ofstream(dir / "daemon.yaml") << "dammloamd:\n  loop_closure: false\n"
+                                     << "  save_map_on_shutdown: " << (dir / "map").string() << "\n";
+  ChildProcess daemon("dammloamd",
+                      {"--config", (dir / "daemon.yaml").string(), "--domain",
+                       std::to_string(kDomain), "--sensor-meta", (dir / "seq" / "meta.json").string()},
+                      dir / "daemon.log");
+  ASSERT_TRUE(daemon.started());
+  DdsTestClient client(kDomain);
+  ASSERT_TRUE(client.WaitForDaemon(milliseconds(20000))) << daemon.Log();
+  for (int i = 0; i < kShortScans; ++i) {
+    const dds::CloudMessage cloud = dds::ScanToCloud(simulator.SimulateScan(i), "lidar",
+                                                     static_cast<std::uint64_t>(i));
+    client.Publish(cloud);
+    ASSERT_TRUE(client.WaitForPose(cloud.stamp, kTimeout)) << daemon.Log();
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  daemon.Signal(SIGTERM);
+  const std::optional<int> code = daemon.Wait(milliseconds(30000));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(code) << "dammloamd did not stop within 30 s\n" << daemon.Log();
+  EXPECT_EQ(*code, 0) << daemon.Log();
+
+  // The daemon reports how long the save took; stopping may take one second more than that.
+  std::smatch match;
+  const std::string log = daemon.Log();
+  ASSERT_TRUE(std::regex_search(log, match, std::regex("shutdown: saved .* in ([0-9.]+) s")))
+      << log;
+  const double save_seconds = std::stod(match[1]);
+  std::printf("SIGTERM to exit %.3f s, of which the map save %.3f s\n", seconds, save_seconds);
+  EXPECT_LT(seconds, 1.0 + save_seconds) << log;
+  const backend::MapData map = mapstore::LoadMap(dir / "map");
+  EXPECT_GE(map.keyframes.size(), 1u);
+  EXPECT_GT(map.global_points.size(), 0u);
+}
+
+}  // namespace
+}  // namespace dammloam::test
