@@ -29,9 +29,9 @@ Classifier::Classifier(const ClassifierConfig& config)
 
 // Mean of the pairwise angles, decided with cheap exact bounds before any acos. For unit
 // vectors an angle lies between its chord c and (pi/2) c, and the sum of squared chords over
-// all pairs is n^2 - |sum|^2. So: root-mean-square chord * pi/2 below the threshold -> not an
-// edge (flat windows, most of a scan); mean chord above it -> an edge (clear corners); only
-// the windows in between pay for the acos of every pair.
+// all pairs is n^2 - |sum|^2. So: an upper bound of the mean angle from the root-mean-square
+// chord below the threshold -> not an edge (flat windows, most of a scan); mean chord above
+// it -> an edge (clear corners); only the windows in between pay for the acos of every pair.
 bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const {
   if (count < 2) return false;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -39,6 +39,22 @@ bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int co
   const double pairs = 0.5 * count * (count - 1);
   const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
   if (0.5 * std::numbers::pi * std::sqrt(mean_chord2) <= edge_angle_rad_) return false;
+
+  // Tighter: the angle 2 asin(c / 2) is convex in the chord c with value 0 at 0, so every
+  // pair's angle is at most c times the angle/chord ratio of the widest pair. Noisy but flat
+  // windows end here without a square root per pair.
+  float max_chord2 = 0.0f;
+  for (int i = 0; i < count; ++i) {
+    for (int j = i + 1; j < count; ++j) {
+      max_chord2 = std::max(max_chord2, (normals[i] - normals[j]).squaredNorm());
+    }
+  }
+  const double max_chord = std::sqrt(static_cast<double>(max_chord2));
+  const double slope =
+      max_chord > 1e-9 ? 2.0 * std::asin(std::min(1.0, 0.5 * max_chord)) / max_chord : 1.0;
+  if (slope * std::sqrt(mean_chord2) <= edge_angle_rad_) return false;
+  // And from below: angle >= chord >= chord^2 / widest chord, so clear corners end here too.
+  if (mean_chord2 > edge_angle_rad_ * max_chord) return true;
 
   double chord_sum = 0.0;
   for (int i = 0; i < count; ++i) {

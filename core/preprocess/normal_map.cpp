@@ -72,9 +72,9 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
       int cc = c + sign * k * dc;
       if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
       cc = cc < 0 ? cc + cols_ : (cc >= cols_ ? cc - cols_ : cc);  // 360 deg wrap
-      if (image.empty(rr, cc)) continue;
-      const Eigen::Vector3f& q = image.point(rr, cc);
       const float rq = image.range(rr, cc);
+      if (rq <= 0.0f) continue;  // empty pixel
+      const Eigen::Vector3f& q = image.point(rr, cc);
       // Continuity is judged against the previous pixel of the chain (a wide stencil would
       // otherwise tolerate a jump to another surface), and a widened tangent must stay on the
       // line it started (so it stops at a corner instead of mixing two planes).
@@ -97,7 +97,7 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
     if (!sides[0].point && !sides[1].point) continue;
     tangent = b - a;
     if (sides[0].point && sides[1].point &&
-        tangent->squaredNorm() >= 4.0 * min_baseline_ * min_baseline_) {
+        tangent->squaredNorm() >= 4.0f * min_baseline_ * min_baseline_) {
       break;
     }
   }

@@ -154,8 +154,7 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
 
   const std::size_t pixels = static_cast<std::size_t>(rows_) * cols_;
   index_.assign(pixels, -1);
-  range_.assign(pixels, 0.0f);
-  point_.assign(pixels, Eigen::Vector3f::Zero());
+  pixels_.assign(pixels, Pixel{});
   pixel_of_.assign(n, -1);
 
   // Pixels of all points in parallel (the atan2 is most of the cost), then the nearest-wins
@@ -177,8 +176,7 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
     if (index_[pixel] < 0) continue;
     const Eigen::Vector3d& p = points[static_cast<std::size_t>(index_[pixel])];
-    point_[pixel] = p.cast<float>();
-    range_[pixel] = static_cast<float>(p.norm());
+    pixels_[pixel] = {p.cast<float>(), static_cast<float>(p.norm())};
   }
 }
 

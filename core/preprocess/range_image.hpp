@@ -32,9 +32,9 @@ class RangeImage {
   int cols() const { return cols_; }
   // Index of the point that owns pixel (r, c), -1 if empty.
   int index(int r, int c) const { return index_[Flat(r, c)]; }
-  float range(int r, int c) const { return range_[Flat(r, c)]; }  // 0 if empty
+  float range(int r, int c) const { return pixels_[Flat(r, c)].range; }  // 0 if empty
   // The owning point (a single-precision copy, contiguous for the normal map); zero if empty.
-  const Eigen::Vector3f& point(int r, int c) const { return point_[Flat(r, c)]; }
+  const Eigen::Vector3f& point(int r, int c) const { return pixels_[Flat(r, c)].point; }
   bool empty(int r, int c) const { return index_[Flat(r, c)] < 0; }
   // Flat pixel r * cols + c that point i fell into (whether it won it or not), -1 if none.
   int pixel_of(std::size_t i) const { return pixel_of_[i]; }
@@ -59,8 +59,12 @@ class RangeImage {
   std::vector<int> point_row_;  // per point, -1 when not projected (scratch)
   std::vector<int> pixel_of_;
   std::vector<int> index_;
-  std::vector<float> range_;
-  std::vector<Eigen::Vector3f> point_;
+  // Point and range side by side: the normal map's stencil walk reads both at every step.
+  struct Pixel {
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+    float range = 0.0f;
+  };
+  std::vector<Pixel> pixels_;
   std::vector<double> vertical_angles_rad_;
 };
 
