@@ -154,10 +154,16 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
         AnalyseTranslation(system.H.topLeftCorner<3, 3>(), config.degenerate_eigenvalue_ratio);
     const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
     Vector6d dx = -H.ldlt().solve(system.b);
-    // Remapping follows the geometry's own observability (the unweighted planar analysis):
-    // the weights make well-observed directions look weak, and point pairs along a corridor
-    // pull towards the rings that move with the sensor rather than constrain it.
-    if (remap && !pairs.planar.empty()) RemapDegenerateTranslation(planar_report, dx);
+    // Remapping follows the geometry's own observability, judged without the degeneracy
+    // weights (they make weak directions look weaker still): planes and points together, so
+    // that trees and poles along a featureless road still pin the motion the ground cannot.
+    if (remap) {
+      const Eigen::Matrix3d H_geometry =
+          alpha * PlanarTranslationHessian(pairs.planar) +
+          (1.0 - alpha) * static_cast<double>(pairs.point.size()) * Eigen::Matrix3d::Identity();
+      RemapDegenerateTranslation(
+          AnalyseTranslation(H_geometry, config.degenerate_eigenvalue_ratio), dx);
+    }
     if (!dx.allFinite()) break;
     const Eigen::Isometry3d step = ExpSE3(dx);
     Transform(step, source_world);
