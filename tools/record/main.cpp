@@ -10,9 +10,9 @@
 #include <set>
 #include <tuple>
 
+#include "tools/common/dds_tool_main.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/messages.hpp"
-#include "services/dds/network_guard.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
 #include "tools/common/pcd/labelled_pcd.hpp"
@@ -173,17 +173,7 @@ int main(int argc, char** argv) {
   app.add_flag("--allow-default-network", o.allow_default_network,
                "run without CYCLONEDDS_URI (uses the default network interface)");
   CLI11_PARSE(app, argc, argv);
-  if (const std::string problem = dds::NetworkConfigProblem(o.allow_default_network);
-      !problem.empty()) {
-    spdlog::error("{}", problem);
-    return 2;
-  }
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  try {
-    return Run(o);
-  } catch (const std::exception& e) {
-    spdlog::error("{}", e.what());
-    return 1;
-  }
+  return tools::RunDdsTool(o.allow_default_network, [&] { return Run(o); });
 }
