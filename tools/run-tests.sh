@@ -24,10 +24,11 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
 
   # The daemon's threaded pipeline and its queues under ThreadSanitizer.
   echo "== TSan build + pipeline tests"
+  # Exported for the build too: gtest test discovery runs the instrumented test binaries.
+  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/support/tsan.supp"
   cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDAMMLOAM_TSAN=ON \
     -DDAMMLOAM_TEST_AREAS="system" >/dev/null
   cmake --build build-tsan -j"$JOBS" --target dammloam_tests_tsan
-  TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/support/tsan.supp" \
-    ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
+  ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
 fi
 echo "== all tests passed"

@@ -26,7 +26,13 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
     world.push_back({T_world_sensor * points[i], n, label});
   }
   AddPoints(world);
-  RemoveFarVoxels(T_world_sensor.translation());
+  // Cropping walks the whole map; the map only outgrows its radius by the distance travelled
+  // since the last crop, so cropping after every 5% of the radius bounds memory just as well.
+  const Eigen::Vector3d origin = T_world_sensor.translation();
+  if (!last_crop_origin_ || (origin - *last_crop_origin_).norm() > 0.05 * max_distance_) {
+    RemoveFarVoxels(origin);
+    last_crop_origin_ = origin;
+  }
 }
 
 const Eigen::Vector3d& VoxelHashMap::VoxelBlock::AnyPosition() const {

@@ -27,7 +27,8 @@ class VoxelHashMap {
   VoxelHashMap(double voxel_size, double max_distance, int max_points_per_voxel);
 
   // Adds sensor-frame points (with labels and sensor-frame normals) seen from T_world_sensor,
-  // then drops voxels farther than max_distance from the sensor. Normals may be empty.
+  // then drops voxels farther than max_distance from the sensor (once the sensor has moved 5%
+  // of max_distance since the last crop). Normals may be empty.
   void Update(const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
               const std::vector<Eigen::Vector3f>& normals, const Eigen::Isometry3d& T_world_sensor);
   // World-frame insertion; a voxel keeps at most max_points_per_voxel points of each class.
@@ -44,7 +45,10 @@ class VoxelHashMap {
   std::size_t NumPoints() const;
   std::size_t NumVoxels() const { return map_.size(); }
   bool empty() const { return map_.empty(); }
-  void Clear() { map_.clear(); }
+  void Clear() {
+    map_.clear();
+    last_crop_origin_.reset();
+  }
   double voxel_size() const { return voxel_size_; }
   double max_distance() const { return max_distance_; }
 
@@ -58,6 +62,7 @@ class VoxelHashMap {
   double max_distance_;
   int max_points_per_voxel_;
   tsl::robin_map<Voxel, VoxelBlock, VoxelHash> map_;
+  std::optional<Eigen::Vector3d> last_crop_origin_;
 };
 
 }  // namespace dammloam
