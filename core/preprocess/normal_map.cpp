@@ -18,6 +18,8 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
       min_tangent_sine_(static_cast<float>(config.min_tangent_sine)),
       min_baseline_(static_cast<float>(config.min_baseline)),
       max_stencil_(std::max(1, config.max_stencil)),
+      column_spacing_rad_(2.0f * std::numbers::pi_v<float> / static_cast<float>(std::max(1, cols_))),
+      row_spacing_rad_(static_cast<float>(image.row_spacing_rad())),
       normals_(static_cast<std::size_t>(rows_) * cols_, Eigen::Vector3f::Zero()),
       valid_(static_cast<std::size_t>(rows_) * cols_, 0) {
   // Rows are independent; grain of a few rows keeps the task overhead negligible.
@@ -59,10 +61,10 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
   const float noise_sq = range_noise_ * range_noise_;
   Side sides[2];
   std::optional<Eigen::Vector3f> tangent;
-  // Along a row the pixels are dense (0.35 deg at 1024 columns): past the immediate neighbour
-  // (the paper's discontinuity test) the walk takes strides, so that reaching the baseline
-  // costs about three steps at any range instead of up to max_stencil.
-  const int stride = dc != 0 ? ColumnStride(rp) : 1;
+  // Pixels are dense (0.35 deg at 1024 columns): past the immediate neighbour (the paper's
+  // discontinuity test) the walk takes strides, so that reaching the baseline costs about two
+  // steps at any range instead of up to max_stencil.
+  const int stride = Stride(rp, dc != 0 ? column_spacing_rad_ : row_spacing_rad_);
   for (int k = 1; k <= max_stencil_; k = k == 1 ? 1 + stride : k + stride) {
     for (int s = 0; s < 2; ++s) {
       Side& side = sides[s];
@@ -104,10 +106,10 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
   return tangent;
 }
 
-int NormalMap::ColumnStride(float range) const {
-  const float column_spacing = range * 2.0f * std::numbers::pi_v<float> / static_cast<float>(cols_);
-  const float columns_to_baseline = min_baseline_ / std::max(column_spacing, 1e-6f);
-  return std::clamp(static_cast<int>(columns_to_baseline / 3.0f), 1, std::max(1, max_stencil_ / 2));
+int NormalMap::Stride(float range, float pixel_angle) const {
+  if (!(pixel_angle > 0.0f)) return 1;
+  const float pixels_to_baseline = min_baseline_ / std::max(range * pixel_angle, 1e-6f);
+  return std::clamp(static_cast<int>(pixels_to_baseline / 2.0f), 1, std::max(1, max_stencil_ / 2));
 }
 
 void NormalMap::ComputeRow(const RangeImage& image, int r) {

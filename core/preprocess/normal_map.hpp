@@ -36,7 +36,7 @@ class NormalMap {
   // memory traffic of the stencil walk that dominates this stage.
   std::optional<Eigen::Vector3f> Tangent(const RangeImage& image, int r, int c, int dr,
                                          int dc) const;
-  int ColumnStride(float range) const;
+  int Stride(float range, float pixel_angle) const;
   bool Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q, float rq) const;
 
   int rows_;
@@ -46,6 +46,8 @@ class NormalMap {
   float min_tangent_sine_;
   float min_baseline_;
   int max_stencil_;
+  float column_spacing_rad_;
+  float row_spacing_rad_;  // 0 when the sensor's vertical angles are unknown: no strides
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> valid_;
 };

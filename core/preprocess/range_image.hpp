@@ -39,6 +39,12 @@ class RangeImage {
   // Flat pixel r * cols + c that point i fell into (whether it won it or not), -1 if none.
   int pixel_of(std::size_t i) const { return pixel_of_[i]; }
   int Flat(int r, int c) const { return r * cols_ + c; }
+  // Mean angle between neighbouring rows (from the sensor's vertical angles), 0 if unknown.
+  double row_spacing_rad() const {
+    if (vertical_angles_rad_.size() < 2) return 0.0;
+    return (vertical_angles_rad_.front() - vertical_angles_rad_.back()) /
+           static_cast<double>(vertical_angles_rad_.size() - 1);
+  }
 
  private:
   int ColumnOf(const Eigen::Vector3d& p) const;
