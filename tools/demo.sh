@@ -9,13 +9,14 @@ SCENE=${SCENE:-corridor}
 SENSOR=${SENSOR:-os1-64}
 SCANS=${SCANS:-150}
 OUT=${OUT:-$ROOT/out/demo}
+BUILD=${BUILD:-build}
 
 bash deploy/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=OFF >/dev/null
-cmake --build build -j"$JOBS" --target dammloam-simulate dammloam-evaluate dammloam-odometry \
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$BUILD" -j"$JOBS" --target dammloam-simulate dammloam-evaluate dammloam-odometry \
   dammloamd dammloam-replay dammloam-record
 
-BIN=$ROOT/build/bin
+BIN=$ROOT/$BUILD/bin
 rm -rf "$OUT" && mkdir -p "$OUT"
 # Never let DDS discovery leave this machine: pin Cyclone DDS to the loopback interface.
 export CYCLONEDDS_URI=file://$ROOT/deploy/cyclonedds-loopback.xml

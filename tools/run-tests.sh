@@ -9,7 +9,7 @@ JOBS=${JOBS:-$(nproc)}
 bash deploy/install-deps.sh
 
 echo "== release build + all tests"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=ON >/dev/null
 cmake --build build -j"$JOBS"
 ctest --test-dir build --output-on-failure -j"$JOBS"
 
