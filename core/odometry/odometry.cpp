@@ -79,6 +79,23 @@ void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_
 }
 
 OdometryResult Odometry::Register(ClassifiedScan&& scan) {
+  return RegisterAndUpdate(std::move(scan), false);
+}
+
+OdometryResult Odometry::RegisterDeferringMap(ClassifiedScan&& scan) {
+  return RegisterAndUpdate(std::move(scan), true);
+}
+
+double Odometry::CommitMap() {
+  if (!pending_map_update_) return 0.0;
+  Stopwatch watch;
+  UpdateMap(pending_map_update_->first, pending_map_update_->second);
+  pending_map_update_.reset();
+  return watch.LapMs();
+}
+
+OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map) {
+  CommitMap();
   Stopwatch watch;
   OdometryResult result;
   result.stamp = scan.scan.t_start;
@@ -153,7 +170,15 @@ OdometryResult Odometry::Register(ClassifiedScan&& scan) {
     velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
   }
 
-  UpdateMap(scan, T_new);
+  if (defer_map) {
+    ClassifiedScan copy;
+    copy.scan.points = scan.scan.points;
+    copy.labels = scan.labels;
+    copy.normals = scan.normals;
+    pending_map_update_.emplace(std::move(copy), T_new);
+  } else {
+    UpdateMap(scan, T_new);
+  }
   result.timings.map_update_ms = watch.LapMs();
   T_world_last_ = T_new;
   last_stamp_ = scan.scan.t_start;

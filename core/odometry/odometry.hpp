@@ -2,6 +2,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
+#include <utility>
 
 #include "core/geometry/scan.hpp"
 #include "core/geometry/se3.hpp"
@@ -26,8 +28,17 @@ class Odometry {
   Eigen::Matrix3d PredictedOrientation() const;
 
   OdometryResult Register(ClassifiedScan&& scan);
+  // Register without the map update, so a caller can hand the pose on first (the daemon's
+  // latency); CommitMap() applies it, and so does the next Register, so the map a scan is
+  // registered against never differs from Register's. Returns the update's time in ms.
+  OdometryResult RegisterDeferringMap(ClassifiedScan&& scan);
+  double CommitMap();
 
-  const VoxelHashMap& local_map() const { return map_; }
+  // The local map, with any deferred update applied.
+  const VoxelHashMap& local_map() {
+    CommitMap();
+    return map_;
+  }
   const Eigen::Isometry3d& last_pose() const { return T_world_last_; }
   // Body-frame twist [v; w] per second of the constant-velocity model.
   const Vector6d& velocity() const { return velocity_; }
@@ -35,6 +46,7 @@ class Odometry {
  private:
   void Initialise(const ClassifiedScan& scan);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
+  OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
 
   OdometryConfig config_;
   SensorModel sensor_;
@@ -46,6 +58,8 @@ class Odometry {
   std::uint64_t next_index_ = 0;
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
+  // A deferred map update: the registered scan (mid-scan frame) and its pose.
+  std::optional<std::pair<ClassifiedScan, Eigen::Isometry3d>> pending_map_update_;
 };
 
 }  // namespace dammloam

@@ -212,7 +212,8 @@ void Daemon::RegistrationLoop() {
     std::optional<FeatureScan> item = featured_.Pop(kWakeUp, drop);
     if (!item) continue;
     try {
-      OdometryResult result = odometry_.Register(std::move(item->scan));
+      // The map update waits until the pose is on its way: it is not on the latency path.
+      OdometryResult result = odometry_.RegisterDeferringMap(std::move(item->scan));
       {
         // Before the result leaves: in lock-step the next scan is sent only after this pose
         // arrives, so its features see exactly this prediction.
@@ -221,6 +222,7 @@ void Daemon::RegistrationLoop() {
       }
       const ScanMeta meta = item->meta;
       if (!registered_.TryPush({item->meta, std::move(result)})) Drop(meta, "publish_queue_full");
+      odometry_.CommitMap();
     } catch (const std::exception& e) {
       spdlog::error("registration stage, scan seq {}: {}", item->meta.seq, e.what());
       stats_.Rejected("internal", std::string("registration stage: ") + e.what());
