@@ -18,6 +18,7 @@ struct Timing {
   double block_us;    // time between consecutive firing blocks
   double channel_us;  // offset of channel k within its block = (k / group) * channel_us
   int group;          // channels fired together
+  double stamp_us = 0.0;  // how far into the first firing the packet timestamp points
 };
 
 Timing TimingOf(Model m) {
@@ -25,7 +26,10 @@ Timing TimingOf(Model m) {
     case Model::kVLP16: return {110.592, 2.304, 1};   // 2 sequences of 16 per block (55.296 us each)
     case Model::kVLP32C: return {55.296, 2.304, 2};   // pairs fire together
     case Model::kHDL32E: return {46.08, 1.152, 1};
-    case Model::kVLS128: return {53.3, 2.665, 8};     // approximate: 16 groups of 8 per sequence
+    // VLS-128 user manual, firing timing table: a 53.3 us sequence fires 16 groups of 8 lasers
+    // 2.665 us apart, with one maintenance slot after group 7 (see Vls128FiringUs), and the
+    // packet timestamp ("top of the hour") is aligned 8.7 us into the first sequence.
+    case Model::kVLS128: return {53.3, 2.665, 8, 8.7};
   }
   return {55.296, 2.304, 1};
 }
@@ -43,6 +47,14 @@ std::uint8_t ProductId(Model m) {
 std::string Hex(std::uint8_t v) {
   static constexpr char kDigits[] = "0123456789abcdef";
   return std::string("0x") + kDigits[v >> 4] + kDigits[v & 15];
+}
+
+// Firing time of a VLS-128 laser within its sequence. Lasers 64..127 (groups 8..15) fire one
+// 2.665 us slot later than a plain group * 2.665 us because of the maintenance slot between
+// groups 7 and 8 (VLS-128 user manual timing table; also how ROS velodyne and nebula time them).
+double Vls128FiringUs(int laser, const Timing& t) {
+  const int group = laser / t.group;
+  return (group + group / 8) * t.channel_us;
 }
 
 double DefaultUnit(Model m) { return (m == Model::kVLP32C || m == Model::kVLS128) ? 0.004 : 0.002; }
@@ -183,11 +195,11 @@ void Decoder::AddBlock(const std::uint8_t* block, int slot, int bank, double gap
       offset_us = (k / 16) * 55.296 + laser * timing.channel_us;
     } else if (config_.model == Model::kVLS128) {
       laser = bank * 32 + k;
-      offset_us = (laser / timing.group) * timing.channel_us;
+      offset_us = Vls128FiringUs(laser, timing);
     } else {
       offset_us = (k / timing.group) * timing.channel_us;
     }
-    const double t = packet_time + (slot * timing.block_us + offset_us) * 1e-6;
+    const double t = packet_time + (slot * timing.block_us + offset_us - timing.stamp_us) * 1e-6;
 
     const Laser& cal = cal_.lasers[static_cast<std::size_t>(laser)];
     const double distance = raw * unit_m_ + cal.dist_correction;
