@@ -57,6 +57,19 @@ double Vls128FiringUs(int laser, const Timing& t) {
   return (group + group / 8) * t.channel_us;
 }
 
+// Laser bank (0..3) a block's flag names, or -1 when the flag is invalid for the model: the
+// VLS-128 flags its four banks of 32 lasers, the other models use 0xFFEE on every block.
+int BankOf(Model m, std::uint16_t flag) {
+  if (m != Model::kVLS128) return flag == 0xEEFF ? 0 : -1;
+  switch (flag) {
+    case 0xEEFF: return 0;
+    case 0xDDFF: return 1;
+    case 0xCCFF: return 2;
+    case 0xBBFF: return 3;
+    default: return -1;
+  }
+}
+
 double DefaultUnit(Model m) { return (m == Model::kVLP32C || m == Model::kVLS128) ? 0.004 : 0.002; }
 
 }  // namespace
@@ -125,54 +138,71 @@ std::optional<Scan> Decoder::Push(std::span<const std::uint8_t> packet, double c
                     "); decoding as configured");
   }
   const bool dual = return_mode == 0x39;
-  if (dual && config_.model == Model::kVLS128) {
-    diag_.Count("unsupported_packets", "VLS-128 dual-return packets are not supported; ignored");
-    return std::nullopt;
-  }
+  const bool vls = config_.model == Model::kVLS128;
   const double packet_time = PacketTime(LoadLE<std::uint32_t>(p + 1200), capture_time);
+  if (dual && vls) GapFromPreviousPacket(LoadLE<std::uint16_t>(p + 2), packet_time);
 
   std::optional<Scan> done;
-  const int step = dual ? 2 : 1;  // dual: blocks come in pairs with the same azimuth
-  for (int b = 0; b < kBlocks; ++b) {
+  // VLS-128 dual: one firing sequence in blocks 0..7; blocks 8..11 are padding, never parsed.
+  const int blocks = (dual && vls) ? 8 : kBlocks;
+  for (int b = 0; b < blocks; ++b) {
     const std::uint8_t* block = p + static_cast<std::size_t>(b) * kBlockSize;
-    const std::uint16_t flag = LoadLE<std::uint16_t>(block);
-    int bank = 0;
-    if (config_.model == Model::kVLS128) {
-      if (flag == 0xEEFF) bank = 0;
-      else if (flag == 0xDDFF) bank = 1;
-      else if (flag == 0xCCFF) bank = 2;
-      else if (flag == 0xBBFF) bank = 3;
-      else bank = -1;
-    } else if (flag != 0xEEFF) {
-      bank = -1;
-    }
+    const int bank = BankOf(config_.model, LoadLE<std::uint16_t>(block));
     const std::uint16_t az = LoadLE<std::uint16_t>(block + 2);
     if (bank < 0 || az >= 36000) {
       diag_.Count("bad_blocks", "data block with a bad flag or azimuth >= 360 deg; skipped");
       continue;
     }
-    // Gap to the next firing's azimuth, for interpolating each channel's own angle.
-    const int next = b + (config_.model == Model::kVLS128 ? 4 : step);
-    if (next < kBlocks) {
-      const double gap = (LoadLE<std::uint16_t>(p + static_cast<std::size_t>(next) * kBlockSize + 2) + 36000 - az) % 36000;
-      if (gap > 0 && gap < 300) last_gap_ = gap;  // ignore jumps (sector edges, lost packets)
-    }
-
-    const int rel = (az - static_cast<int>(std::lround(config_.scan_phase_deg * 100.0)) % 36000 + 72000) % 36000;
-    if (prev_rel_ && rel < *prev_rel_) {
+    UpdateGapWithinPacket(p, b, az, dual);
+    if (CrossPhase(az)) {
       if (auto s = FinishScan()) done = std::move(s);  // at most one crossing per packet
-      scan_started_at_phase_ = true;
-    } else if (!prev_rel_) {
-      scan_started_at_phase_ = rel <= config_.start_tolerance_deg * 100.0;
+      scan_started_at_phase_ = true;                   // the scan this crossing opens
     }
-    prev_rel_ = rel;
-
-    // Firing slot of this block: dual pairs share one firing, VLS-128 uses 4 banks per firing.
-    const int slot = config_.model == Model::kVLS128 ? b / 4 : b / step;
-    const bool second = dual && (b % 2 == 1);
-    AddBlock(block, slot, bank, last_gap_, packet_time, second ? block - kBlockSize : nullptr);
+    const bool second = dual && (b % 2 == 1);  // dual: blocks come in pairs with the same azimuth
+    AddBlock(block, FiringSlot(b, dual), bank, last_gap_, packet_time, second ? block - kBlockSize : nullptr);
   }
   return done;
+}
+
+int Decoder::FiringSlot(int block, bool dual) const {
+  // Dual pairs share one firing; VLS-128 uses 4 banks per firing, and its dual packet holds a
+  // single firing sequence, so all its blocks fire at the packet's first sequence time.
+  if (config_.model == Model::kVLS128) return dual ? 0 : block / 4;
+  return dual ? block / 2 : block;
+}
+
+void Decoder::UpdateGapWithinPacket(const std::uint8_t* p, int b, std::uint16_t az, bool dual) {
+  // Gap to the next firing's azimuth, for interpolating each channel's own angle. A VLS-128
+  // dual packet has no next firing (see GapFromPreviousPacket).
+  if (config_.model == Model::kVLS128 && dual) return;
+  const int next = b + (config_.model == Model::kVLS128 ? 4 : (dual ? 2 : 1));
+  if (next >= kBlocks) return;
+  const double gap = (LoadLE<std::uint16_t>(p + static_cast<std::size_t>(next) * kBlockSize + 2) + 36000 - az) % 36000;
+  if (gap > 0 && gap < 300) last_gap_ = gap;  // ignore jumps (sector edges, lost packets)
+}
+
+void Decoder::GapFromPreviousPacket(std::uint16_t az, double packet_time) {
+  // The rotation per firing is the azimuth advance since the previous packet divided by the
+  // sequences elapsed, so a lost packet does not double it. Beyond 100 sequences the advance
+  // could have wrapped past a full turn, so the old gap is kept.
+  if (prev_dual_ && az < 36000) {
+    const double sequences = std::round((packet_time - prev_dual_->time) * 1e6 / TimingOf(config_.model).block_us);
+    if (sequences >= 1 && sequences <= 100) {
+      const double gap = ((az + 36000 - prev_dual_->azimuth) % 36000) / sequences;
+      if (gap > 0 && gap < 300) last_gap_ = gap;
+    }
+  }
+  prev_dual_.reset();
+  if (az < 36000) prev_dual_ = DualFiring{az, packet_time};
+}
+
+bool Decoder::CrossPhase(std::uint16_t az) {
+  const int rel = (az - static_cast<int>(std::lround(config_.scan_phase_deg * 100.0)) % 36000 + 72000) % 36000;
+  const bool crossed = prev_rel_ && rel < *prev_rel_;
+  // The stream's first scan counts as complete only when it starts just after the phase.
+  if (!prev_rel_) scan_started_at_phase_ = rel <= config_.start_tolerance_deg * 100.0;
+  prev_rel_ = rel;
+  return crossed;
 }
 
 void Decoder::AddBlock(const std::uint8_t* block, int slot, int bank, double gap, double packet_time,
@@ -265,6 +295,7 @@ void Decoder::Flush() {
   scan_ = Scan{};
   abs_times_.clear();
   prev_rel_.reset();
+  prev_dual_.reset();
 }
 
 }  // namespace dammloam::drivers::velodyne

@@ -42,6 +42,13 @@ class Decoder {
  private:
   std::optional<Scan> FinishScan();
   double PacketTime(std::uint32_t usec_past_hour, double capture_time);
+  // Firing sequence of a block within its packet (0-based), which sets the block's time.
+  int FiringSlot(int block, bool dual) const;
+  void UpdateGapWithinPacket(const std::uint8_t* packet, int block, std::uint16_t azimuth, bool dual);
+  // VLS-128 dual-return packets hold one firing sequence: the gap comes from the previous one.
+  void GapFromPreviousPacket(std::uint16_t azimuth, double packet_time);
+  // True when `azimuth` wrapped past the scan phase since the previous block.
+  bool CrossPhase(std::uint16_t azimuth);
   // Appends one data block's returns; `pair_first` is the first block of a dual-return pair.
   void AddBlock(const std::uint8_t* block, int slot, int bank, double gap_centideg, double packet_time,
                 const std::uint8_t* pair_first);
@@ -57,6 +64,11 @@ class Decoder {
   std::optional<int> prev_rel_;      // azimuth of the last block, relative to the phase
   double last_gap_ = 0.0;            // centidegrees between consecutive firings
   std::optional<double> last_packet_time_;
+  struct DualFiring {
+    std::uint16_t azimuth;
+    double time;
+  };
+  std::optional<DualFiring> prev_dual_;  // last VLS-128 dual packet's firing, for its gap
   std::uint32_t last_usec_ = 0;
 };
 

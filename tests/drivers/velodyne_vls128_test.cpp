@@ -6,7 +6,8 @@
 //   azimuth (uint16 LE, 0.01 deg), 32 x {distance uint16 LE in 4 mm, reflectivity byte}.
 //   Single return: 3 firing sequences per packet, each = 4 consecutive blocks (banks 0..3) with
 //   the sequence's azimuth. Dual return: one sequence; blocks 2b and 2b+1 hold bank b's two
-//   returns and blocks 8..11 are padding.
+//   returns and blocks 8..11 are padding; when both returns are the same echo the second block
+//   repeats the first, and such a repeat is not a second point (as for VLP-16/32C dual mode).
 //   Timing: a sequence lasts 53.3 us; laser L fires in group g = L / 8 at (g + g / 8) * 2.665 us
 //   (one maintenance slot after group 7); the packet timestamp is 8.7 us into the first sequence.
 // The expectations below are computed from that description, not from the decoder's code.
@@ -102,13 +103,24 @@ Packet SinglePacket(const std::array<std::uint16_t, 3>& azimuths, std::uint32_t 
   return p;
 }
 
+// Lasers whose two returns are the same echo: the sensor then repeats the first in the second.
+bool SameEcho(int laser) { return laser % 3 == 0; }
+constexpr int kSecondExtra = 500;  // the second return is 2 m farther (500 x 4 mm)
+constexpr std::uint8_t kFirstRefl = 50;
+constexpr std::uint8_t kSecondRefl = 40;
+
 // Dual-return packet: one sequence, bank b's returns in blocks 2b, 2b+1 (the second one 2 m
-// farther), blocks 8..11 zero padding.
+// farther, or a copy of the first for SameEcho lasers), blocks 8..11 zero padding.
 Packet DualPacket(std::uint16_t azimuth, std::uint32_t usec) {
   Packet p(kPacketSize, 0);
   for (int bank = 0; bank < 4; ++bank) {
-    WriteBlock(p, 2 * bank, bank, azimuth, 50);
-    WriteBlock(p, 2 * bank + 1, bank, azimuth, 40, 500);
+    WriteBlock(p, 2 * bank, bank, azimuth, kFirstRefl);
+    WriteBlock(p, 2 * bank + 1, bank, azimuth, kSecondRefl, kSecondExtra);
+    for (int k = 0; k < 32; ++k) {
+      if (!SameEcho(bank * 32 + k)) continue;
+      const std::size_t first = static_cast<std::size_t>(2 * bank) * 100 + 4 + static_cast<std::size_t>(k) * 3;
+      std::copy_n(p.begin() + static_cast<std::ptrdiff_t>(first), 3, p.begin() + static_cast<std::ptrdiff_t>(first + 100));
+    }
   }
   WriteFactory(p, usec, kDual, kVls128Id);
   return p;
@@ -134,6 +146,21 @@ Stream Spin(double start_deg, double revolutions) {
     st.packets.push_back(SinglePacket(az, kUsec0 + static_cast<std::uint32_t>(std::llround(dt * 1e6))));
     st.capture.push_back(kCapture0 + dt + 2e-4);  // arrival a little after the firing
     st.first_unwrapped_cd.push_back(start_deg * 100.0 + first * kCentidegPerSequence);
+  }
+  return st;
+}
+
+// Dual-return packets (one sequence each) of a sensor spinning at 600 rpm.
+Stream DualSpin(double start_deg, double revolutions) {
+  Stream st;
+  const auto sequences = static_cast<int>(revolutions * 36000.0 / kCentidegPerSequence);
+  for (int i = 0; i < sequences; ++i) {
+    const double unwrapped = start_deg * 100.0 + i * kCentidegPerSequence;
+    const double dt = i * kSequenceUs * 1e-6;
+    st.packets.push_back(DualPacket(static_cast<std::uint16_t>(std::llround(unwrapped) % 36000),
+                                    kUsec0 + static_cast<std::uint32_t>(std::llround(dt * 1e6))));
+    st.capture.push_back(kCapture0 + dt + 2e-4);
+    st.first_unwrapped_cd.push_back(unwrapped);
   }
   return st;
 }
@@ -167,10 +194,10 @@ std::vector<int> ElevationRanks(const Calibration& cal) {
 }
 
 // Points of the one complete revolution of `Spin(200, 1.6)`: sequences in [360, 720) deg.
-std::size_t SequencesInSecondTurn(const Stream& st) {
+std::size_t SequencesInSecondTurn(const Stream& st, int per_packet = 3) {
   std::size_t n = 0;
   for (double first : st.first_unwrapped_cd) {
-    for (int s = 0; s < 3; ++s) {
+    for (int s = 0; s < per_packet; ++s) {
       const long long u = std::llround(first + s * kCentidegPerSequence);
       if (u >= 36000 && u < 72000) ++n;
     }
@@ -295,26 +322,136 @@ TEST(Vls128Decoder, MoreThanOneRevolutionGivesExactlyOneCompleteScan) {
 
 // ---- 3. dual return and damaged packets --------------------------------------------------------
 
-// The decoder documents VLS-128 dual-return packets as unsupported: counted and ignored whole.
-TEST(Vls128Decoder, DualReturnPacketsAreCountedAndIgnored) {
+// A point of a dual-return scan: which laser, and whether it is the second return.
+struct DualPoint {
+  int laser;
+  bool second;
+};
+
+// The reflectivity tells the returns apart; each must carry exactly its laser's range.
+DualPoint IdentifyDual(const Scan& scan, std::size_t i) {
+  const bool second = scan.intensities[i] == kSecondRefl;
+  EXPECT_TRUE(second || scan.intensities[i] == kFirstRefl) << "point " << i;
+  const double raw = scan.points[i].norm() / kUnitM - (second ? kSecondExtra : 0);
+  const int laser = static_cast<int>(std::lround((raw - 2500.0) / 7.0));
+  EXPECT_TRUE(laser >= 0 && laser < kLasers) << "point " << i;
+  EXPECT_NEAR(raw, RawFor(laser), 1e-3) << "point " << i;
+  return {laser, second};
+}
+
+// The first returns alone, as a scan the single-return checks apply to.
+Scan FirstReturns(const Scan& scan) {
+  Scan out;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.intensities[i] != kFirstRefl) continue;
+    out.points.push_back(scan.points[i]);
+    out.intensities.push_back(scan.intensities[i]);
+    out.rings.push_back(scan.rings[i]);
+    out.times.push_back(scan.times[i]);
+  }
+  return out;
+}
+
+int DifferingLasers() {
+  int n = 0;
+  for (int l = 0; l < kLasers; ++l) n += SameEcho(l) ? 0 : 1;
+  return n;
+}
+
+TEST(Vls128Decoder, DualReturnStreamGivesOneCompleteScanWithBothReturns) {
+  const Stream st = DualSpin(200.0, 1.6);
+  const Decoded d = DecodeStream(st);
+  ASSERT_EQ(d.scans.size(), 1u) << d.diag.Summary();
+  EXPECT_EQ(d.diag.Get("partial_scans"), 2u);
+  EXPECT_EQ(d.diag.Get("bad_blocks"), 0u) << d.diag.Summary();  // padding blocks are not parsed
+  const Scan& scan = d.scans[0];
+  const std::size_t firings = SequencesInSecondTurn(st, 1);
+  // Both returns where they differ, one point where the sensor repeated the first return.
+  EXPECT_EQ(scan.size(), firings * static_cast<std::size_t>(kLasers + DifferingLasers()));
+  ASSERT_TRUE(scan.has_times() && scan.has_rings());
+  EXPECT_GE(*std::min_element(scan.times.begin(), scan.times.end()), 0.0f);
+  EXPECT_LT(*std::max_element(scan.times.begin(), scan.times.end()), static_cast<float>(kPeriod));
+  const std::set<int> rings(scan.rings.begin(), scan.rings.end());
+  EXPECT_EQ(rings.size(), 128u);
+
+  const std::vector<int> rank = ElevationRanks(Vls128Calibration());
+  std::vector<std::size_t> firsts(kLasers, 0);
+  std::vector<std::size_t> seconds(kLasers, 0);
+  std::set<std::pair<int, float>> first_firings;  // (laser, time)
+  std::vector<std::pair<int, float>> second_firings;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const DualPoint dp = IdentifyDual(scan, i);
+    ASSERT_TRUE(dp.laser >= 0 && dp.laser < kLasers);
+    EXPECT_EQ(scan.rings[i], rank[static_cast<std::size_t>(dp.laser)]) << "point " << i;
+    if (dp.second) {
+      ++seconds[static_cast<std::size_t>(dp.laser)];
+      second_firings.emplace_back(dp.laser, scan.times[i]);
+    } else {
+      ++firsts[static_cast<std::size_t>(dp.laser)];
+      first_firings.emplace(dp.laser, scan.times[i]);
+    }
+  }
+  for (int l = 0; l < kLasers; ++l) {
+    EXPECT_EQ(firsts[static_cast<std::size_t>(l)], firings) << "laser " << l;
+    EXPECT_EQ(seconds[static_cast<std::size_t>(l)], SameEcho(l) ? 0u : firings) << "laser " << l;
+  }
+  // Both returns of a pulse share its firing time.
+  for (const auto& f : second_firings) EXPECT_TRUE(first_firings.contains(f)) << "laser " << f.first;
+  // One sequence per packet: the first returns follow the rotation like a single-return scan.
+  ExpectTimeFollowsAzimuth(FirstReturns(scan));
+}
+
+// Two dual packets 19 cd apart between a lead-in packet and a closing one back at the phase.
+// A dual packet holds one sequence, so the rotation during it must come from the packet before.
+TEST(Vls128Decoder, DualPacketChannelsHaveTheirAzimuthAndTime) {
+  const Calibration cal = Vls128Calibration();
+  const std::array<std::uint16_t, 3> az = {9981, 10000, 10019};  // lead-in, then the scan's two
+  Decoder decoder(DecoderConfig{.model = Model::kVLS128, .scan_phase_deg = az[1] / 100.0}, cal);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto us = static_cast<std::uint32_t>(53 * i);
+    EXPECT_FALSE(decoder.Push(DualPacket(az[i], kUsec0 + us), kCapture0 + us * 1e-6).has_value());
+  }
+  const auto scan = decoder.Push(DualPacket(az[1], kUsec0 + 159), kCapture0 + 159e-6);
+  ASSERT_TRUE(scan.has_value()) << decoder.diagnostics().Summary();
+  ASSERT_EQ(scan->size(), 2u * static_cast<std::size_t>(kLasers + DifferingLasers()));
+  EXPECT_NEAR(scan->t_start, kCapture0 + (53 - kStampUs) * 1e-6, 1e-7);
+  for (std::size_t i = 0; i < scan->size(); ++i) {
+    const DualPoint dp = IdentifyDual(*scan, i);
+    ASSERT_TRUE(dp.laser >= 0 && dp.laser < kLasers);
+    const Laser& l = cal.lasers[static_cast<std::size_t>(dp.laser)];
+    const double t_us = scan->times[i] * 1e6;
+    const int seq = t_us > 48.0 ? 1 : 0;  // packets 53 us apart; the latest laser fires at 42.64 us
+    EXPECT_NEAR(t_us, seq * 53.0 + FiringUs(dp.laser), 1e-3) << "laser " << dp.laser;
+    const double fired = (az[static_cast<std::size_t>(seq) + 1] + 19.0 * FiringUs(dp.laser) / kSequenceUs) / 100.0;
+    EXPECT_NEAR(WrapDeg(AzimuthDeg(scan->points[i]) - (fired - Deg(l.rot_correction))), 0.0, 5e-4)
+        << "laser " << dp.laser << " sequence " << seq << (dp.second ? " second" : " first");
+  }
+}
+
+TEST(Vls128Decoder, DualReturnFirstOnlyWhenSecondReturnsAreOff) {
+  const Stream st = DualSpin(200.0, 1.6);
+  const Decoded d = DecodeStream(st, DecoderConfig{.model = Model::kVLS128, .dual_both_returns = false});
+  ASSERT_EQ(d.scans.size(), 1u) << d.diag.Summary();
+  const Scan& scan = d.scans[0];
+  EXPECT_EQ(scan.size(), SequencesInSecondTurn(st, 1) * kLasers);
+  for (std::size_t i = 0; i < scan.size(); ++i) ASSERT_EQ(scan.intensities[i], kFirstRefl) << "point " << i;
+  ExpectUncorrupted(scan);
+}
+
+// A dual packet among single-return ones (return mode switched) adds its one sequence.
+TEST(Vls128Decoder, DualPacketInSingleReturnStreamAddsItsSequence) {
   Stream st = Spin(200.0, 1.6);
   const std::size_t clean = DecodeStream(st).scans.at(0).size();
   const std::size_t mid = MidScanPacket(st);
   st.packets[mid] = DualPacket(static_cast<std::uint16_t>(std::llround(st.first_unwrapped_cd[mid]) % 36000),
                                LoadLE<std::uint32_t>(st.packets[mid].data() + 1200));
   const Decoded d = DecodeStream(st);
-  EXPECT_EQ(d.diag.Get("unsupported_packets"), 1u) << d.diag.Summary();
-  EXPECT_EQ(d.diag.Get("bad_blocks"), 0u);  // its zero padding blocks were never parsed
+  EXPECT_EQ(d.diag.Get("bad_blocks"), 0u) << d.diag.Summary();
   ASSERT_EQ(d.scans.size(), 1u) << d.diag.Summary();
-  EXPECT_EQ(d.scans[0].size(), clean - 3 * kLasers);  // the replaced packet's points are missing
-  ExpectUncorrupted(d.scans[0]);                        // none at a second-return range (+2 m)
-
-  Decoder only_dual(DecoderConfig{.model = Model::kVLS128}, Vls128Calibration());
-  for (int i = 0; i < 1000; ++i) {
-    const auto az = static_cast<std::uint16_t>(std::llround(i * kCentidegPerSequence) % 36000);
-    EXPECT_FALSE(only_dual.Push(DualPacket(az, kUsec0 + static_cast<std::uint32_t>(i * 53)), kCapture0 + i * 53.3e-6));
+  EXPECT_EQ(d.scans[0].size(), clean - 3 * kLasers + kLasers + static_cast<std::size_t>(DifferingLasers()));
+  for (std::size_t i = 0; i < d.scans[0].size(); ++i) {
+    if (d.scans[0].intensities[i] == kFirstRefl || d.scans[0].intensities[i] == kSecondRefl) IdentifyDual(d.scans[0], i);
   }
-  EXPECT_EQ(only_dual.diagnostics().Get("unsupported_packets"), 1000u);
 }
 
 // A wrong product id is diagnosed and the packet decoded as the configured model (some firmware
