@@ -135,8 +135,9 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     result.enough_correspondences = true;
 
     // Paper eqs. (C_t, w_t): the point weights come from the planar correspondences alone.
-    const DegeneracyReport planar_report = AnalyseTranslation(
-        PlanarTranslationHessian(pairs.planar), config.degenerate_eigenvalue_ratio);
+    const Eigen::Matrix3d H_planar = PlanarTranslationHessian(pairs.planar);
+    const DegeneracyReport planar_report =
+        AnalyseTranslation(H_planar, config.degenerate_eigenvalue_ratio);
     // Weighting trades information for robustness; a well-conditioned scene has nothing to
     // gain from it, so by default it starts where the analysis finds a degenerate direction.
     const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
@@ -159,7 +160,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     // that trees and poles along a featureless road still pin the motion the ground cannot.
     if (remap) {
       const Eigen::Matrix3d H_geometry =
-          alpha * PlanarTranslationHessian(pairs.planar) +
+          alpha * H_planar +
           (1.0 - alpha) * static_cast<double>(pairs.point.size()) * Eigen::Matrix3d::Identity();
       RemapDegenerateTranslation(
           AnalyseTranslation(H_geometry, config.degenerate_eigenvalue_ratio), dx);
