@@ -71,11 +71,50 @@ void Odometry::Initialise(const ClassifiedScan& scan) {
   initialised_ = true;
 }
 
+ClassifiedScan Odometry::RawCopy(const ClassifiedScan& scan) {
+  ClassifiedScan copy;
+  copy.scan = scan.scan;
+  copy.labels = scan.labels;
+  copy.normals = scan.normals;
+  copy.class_counts = scan.class_counts;
+  return copy;
+}
+
+// The world frame stays the first scan's start frame (its reported pose is unchanged); only
+// its mid-scan pose and its points in the map change.
+void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
+  ClassifiedScan first = std::move(*first_scan_raw_);
+  first_scan_raw_.reset();
+  T_world_last_ = DeskewToMidScan(first, velocity).inverse();
+  map_ = VoxelHashMap(map_.voxel_size(), config_.map.max_distance,
+                      config_.map.max_points_per_voxel);
+  UpdateMap(first, T_world_last_);
+}
+
 void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor) {
   const std::vector<std::size_t> kept = ClassVoxelDownsample(
       scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
   map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
               Gather(scan.normals, kept), T_world_sensor);
+}
+
+// Deskew with the constant-velocity motion over one period, then express the scan in the frame
+// of its middle (as KISS-ICP does). Registering the start frame instead couples a velocity
+// error into the next pose with the opposite sign, and the two feed each other into a growing
+// oscillation; around the middle the error averages out. Poses are kept internally at
+// mid-scan and reported at the scan start, as sequence.md asks. Returns T_mid_start.
+Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const {
+  if (!config_.deskew || !scan.scan.has_times()) return Eigen::Isometry3d::Identity();
+  const Vector6d xi_scan = velocity * sensor_.scan_period;
+  DeskewScan(scan, ExpSE3(xi_scan), sensor_.scan_period);
+  const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * xi_scan);
+  TransformScan(T_mid_start, scan);
+  return T_mid_start;
+}
+
+Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan) {
+  const std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
+  return {Gather(scan.scan.points, idx), Gather(scan.labels, idx)};
 }
 
 OdometryResult Odometry::Register(ClassifiedScan&& scan) {
@@ -120,37 +159,50 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   const double dt = initialised_ ? scan.scan.t_start - last_stamp_ : sensor_.scan_period;
   if (initialised_ && dt > config_.max_time_gap) {
     velocity_.setZero();
+    motion_model_holds_ = false;
     result.status = OdometryStatus::kTimeGap;
   }
 
-  // Deskew with the constant-velocity motion over one period, then express the scan in the
-  // frame of its middle (as KISS-ICP does). Registering the start frame instead couples a
-  // velocity error into the next pose with the opposite sign, and the two feed each other
-  // into a growing oscillation; around the middle the error averages out. Poses are kept
-  // internally at mid-scan and reported at the scan start, as sequence.md asks.
-  Eigen::Isometry3d T_mid_start = Eigen::Isometry3d::Identity();
-  if (config_.deskew && scan.scan.has_times()) {
-    const Vector6d xi_scan = velocity_ * sensor_.scan_period;
-    DeskewScan(scan, ExpSE3(xi_scan), sensor_.scan_period);
-    T_mid_start = ExpSE3(-0.5 * xi_scan);
-    TransformScan(T_mid_start, scan);
-  }
+  // Without a motion model that has held (start, reset, sharp acceleration) the deskew below
+  // is a guess; the raw scan is kept so that it can be redone with the measured motion.
+  const bool keep_raw = config_.deskew && scan.scan.has_times() && !motion_model_holds_;
+  std::optional<ClassifiedScan> raw;
+  if (keep_raw) raw = RawCopy(scan);
+  Eigen::Isometry3d T_mid_start = DeskewToMidScan(scan, velocity_);
   result.timings.deskew_ms = watch.LapMs();
 
-  const std::vector<std::size_t> source_idx = downsampler_.Select(scan.scan.points, scan.labels);
-  const std::vector<Eigen::Vector3d> source = Gather(scan.scan.points, source_idx);
-  const std::vector<PointClass> source_labels = Gather(scan.labels, source_idx);
+  SourcePoints source = SelectSource(scan);
   result.timings.downsample_ms = watch.LapMs();
 
   Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
   if (!initialised_) {
     Initialise(scan);
+    first_scan_raw_ = std::move(raw);
     result.status = OdometryStatus::kFirstScan;
   } else {
     const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
     const double sigma = threshold_.Sigma();
-    const RegistrationResult reg = RegisterScan(source, source_labels, map_, T_pred,
-                                                3.0 * sigma, sigma / 3.0, config_.registration);
+    RegistrationResult reg = RegisterScan(source.points, source.labels, map_, T_pred,
+                                          3.0 * sigma, sigma / 3.0, config_.registration);
+    auto deviation = [&](const Eigen::Isometry3d& T) {
+      return (T_pred.inverse() * T).translation().norm();
+    };
+    if (raw && reg.enough_correspondences &&
+        deviation(reg.T_world_sensor) > config_.motion_model_max_deviation) {
+      // Deskew again with the motion just measured and refine from there: a sensor that
+      // starts while moving is otherwise registered with its whole scan smeared.
+      const Vector6d measured = LogSE3(T_world_last_.inverse() * reg.T_world_sensor) / dt;
+      // On the first registration the map is the first scan, smeared under the same guess:
+      // it is rebuilt with the measured motion, or only one of the two would be corrected.
+      if (first_scan_raw_) RebuildMapFromFirstScan(measured);
+      scan = std::move(*raw);
+      T_mid_start = DeskewToMidScan(scan, measured);
+      source = SelectSource(scan);
+      reg = RegisterScan(source.points, source.labels, map_,
+                         T_world_last_ * ExpSE3(measured * dt), 3.0 * sigma, sigma / 3.0,
+                         config_.registration);
+    }
+    first_scan_raw_.reset();
     result.timings.registration_ms = watch.LapMs();
     result.covariance = reg.covariance;
     result.degeneracy = reg.degeneracy;
@@ -168,6 +220,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       threshold_.UpdateModelDeviation(T_pred.inverse() * T_new);
     }
     velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
+    motion_model_holds_ = deviation(T_new) <= config_.motion_model_max_deviation;
   }
 
   if (defer_map) {

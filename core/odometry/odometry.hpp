@@ -44,6 +44,14 @@ class Odometry {
   const Vector6d& velocity() const { return velocity_; }
 
  private:
+  struct SourcePoints {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<PointClass> labels;
+  };
+  Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
+  SourcePoints SelectSource(const ClassifiedScan& scan);
+  static ClassifiedScan RawCopy(const ClassifiedScan& scan);
+  void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(const ClassifiedScan& scan);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
   OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
@@ -58,6 +66,10 @@ class Odometry {
   std::uint64_t next_index_ = 0;
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();
   Vector6d velocity_ = Vector6d::Zero();
+  // The last registration landed within config_.motion_model_max_deviation of its prediction.
+  bool motion_model_holds_ = false;
+  // The first scan before deskewing, until the first registration has measured the motion.
+  std::optional<ClassifiedScan> first_scan_raw_;
   // A deferred map update: the registered scan (mid-scan frame) and its pose.
   std::optional<std::pair<ClassifiedScan, Eigen::Isometry3d>> pending_map_update_;
 };

@@ -79,12 +79,15 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
       const Eigen::Vector3f& q = image.point(rr, cc);
       // Continuity is judged against the previous pixel of the chain (a wide stencil would
       // otherwise tolerate a jump to another surface), and a widened tangent must stay on the
-      // line it started (so it stops at a corner instead of mixing two planes).
+      // line it started (so it stops at a corner instead of mixing two planes). That line is
+      // only known to the noise of its short first segment: the tolerance grows as
+      // noise * (1 + |q - p| / |prev - p|), or the first noisy neighbour would end every
+      // chain and leave centimetre tangents (noisy walls classified as edges).
       const Eigen::Vector3f& prev = side.point ? *side.point : p;
       const float r_prev = side.point ? side.range : rp;
       if (!Continuous(prev, r_prev, q, rq) ||
-          (side.point &&
-           (q - p).cross(prev - p).squaredNorm() > noise_sq * (prev - p).squaredNorm())) {
+          (side.point && (q - p).cross(prev - p).squaredNorm() >
+                             2.0f * noise_sq * ((prev - p).squaredNorm() + (q - p).squaredNorm()))) {
         // Paper: a pixel next to a range discontinuity has no normal.
         if (!side.point) return std::nullopt;
         side.blocked = true;

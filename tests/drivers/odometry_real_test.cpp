@@ -59,8 +59,10 @@ TEST(OdometryOnRealData, Os1128ThreeFramesTrackReferencePoses) {
 // The HDL-32E driving capture (Velodyne's 2012 sample: a road through vegetation, mostly ground
 // planes plus trees): five revolutions at ~11.7 Hz while the GPS reports 28.8 kn (14.8 m/s).
 // There are no reference poses, so the test checks what a driving car must show: every scan
-// registered, an average speed near the GPS speed although odometry starts from rest (1.3 m of
-// unmodelled motion and skew in the first scans), a steady heading and no vertical jumps.
+// registered, every scan's speed near the GPS speed although odometry starts from rest (1.3 m of
+// unmodelled motion and skew in the first scans: the first registration measures the motion,
+// then the first scan and itself are deskewed again), a steady heading and no vertical jumps.
+// Measured: 13.8, 14.5, 15.6, 15.1 m/s; before the bootstrap re-deskew 6.6 to 18.8 m/s.
 TEST(OdometryOnRealData, Hdl32eDrivingCaptureTracksPlausibleMotion) {
   const auto pcap = testing::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils" / "hdl32e_example.pcap";
   DAMMLOAM_REQUIRE_DATA(pcap);
@@ -81,7 +83,7 @@ TEST(OdometryOnRealData, Hdl32eDrivingCaptureTracksPlausibleMotion) {
     if (k == 0) continue;
     const Eigen::Isometry3d step = results[k - 1].T_world_sensor.inverse() * results[k].T_world_sensor;
     const double speed = step.translation().norm() / (results[k].stamp - results[k - 1].stamp);
-    EXPECT_NEAR(speed, kGpsSpeed, 0.4 * kGpsSpeed) << "scan " << k;
+    EXPECT_NEAR(speed, kGpsSpeed, 0.15 * kGpsSpeed) << "scan " << k;
     EXPECT_LT(std::abs(step.translation().z()), 0.15) << "scan " << k;
     EXPECT_LT(Eigen::AngleAxisd(step.linear()).angle(), 3.0 * M_PI / 180.0) << "scan " << k;
     const Eigen::Vector3d heading = step.translation().normalized();
@@ -90,7 +92,7 @@ TEST(OdometryOnRealData, Hdl32eDrivingCaptureTracksPlausibleMotion) {
   }
   const Eigen::Vector3d travelled = results.back().T_world_sensor.translation() - results.front().T_world_sensor.translation();
   const double average_speed = travelled.norm() / (results.back().stamp - results.front().stamp);
-  EXPECT_NEAR(average_speed, kGpsSpeed, 0.15 * kGpsSpeed);
+  EXPECT_NEAR(average_speed, kGpsSpeed, 0.08 * kGpsSpeed);
 }
 
 }  // namespace

@@ -158,6 +158,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   s.Get("deskew", config.deskew);
   s.Get("min_points", config.min_points);
   s.Get("max_time_gap", config.max_time_gap);
+  s.Get("motion_model_max_deviation", config.motion_model_max_deviation);
   s.RejectUnknownKeys();
   ValidateOdometryConfig(config);
   return config;
@@ -193,8 +194,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(p.normals.min_tangent_sine >= 0.0 && p.normals.min_tangent_sine < 1.0,
           "preprocess.normals.min_tangent_sine", "must be in [0, 1)");
   Require(p.normals.min_baseline >= 0.0, "preprocess.normals.min_baseline", "must be >= 0");
-  Require(p.normals.max_stencil >= 1 && p.normals.max_stencil <= 16,
-          "preprocess.normals.max_stencil", "must be in [1, 16]");
+  Require(p.normals.max_stencil >= 1 && p.normals.max_stencil <= 128,
+          "preprocess.normals.max_stencil", "must be in [1, 128]");
   Require(p.classifier.majority > 0.0 && p.classifier.majority <= 1.0,
           "preprocess.classifier.majority", "must be in (0, 1]");
   Require(p.classifier.edge_angle_deg > 0.0 && p.classifier.edge_angle_deg < 180.0,
@@ -236,6 +237,7 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(c.map_frame_voxel_factor > 0.0, "map_frame_voxel_factor", "must be > 0");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
+  Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");
 }
 
 }  // namespace dammloam::io
