@@ -182,8 +182,9 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   } else {
     const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
     const double sigma = threshold_.Sigma();
-    RegistrationResult reg = RegisterScan(source.points, source.labels, map_, T_pred,
-                                          3.0 * sigma, sigma / 3.0, config_.registration);
+    RegistrationResult reg =
+        RegisterScan(source.points, source.labels, map_, T_pred, 3.0 * sigma, sigma / 3.0,
+                     config_.registration, motion_model_holds_);
     auto deviation = [&](const Eigen::Isometry3d& T) {
       return (T_pred.inverse() * T).translation().norm();
     };
@@ -200,7 +201,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       source = SelectSource(scan);
       reg = RegisterScan(source.points, source.labels, map_,
                          T_world_last_ * ExpSE3(measured * dt), 3.0 * sigma, sigma / 3.0,
-                         config_.registration);
+                         config_.registration, false);
     }
     first_scan_raw_.reset();
     result.timings.registration_ms = watch.LapMs();

@@ -18,9 +18,10 @@ struct OdometryConfig {
   bool deskew = true;
   int min_points = 100;        // valid points a scan needs to be registered
   double max_time_gap = 1.0;   // seconds; a longer gap resets the constant-velocity model
-  // Metres. A registration that lands farther than this from its constant-velocity
-  // prediction while the model has not held (start while moving, after a reset) is deskewed
-  // again with the motion it measured and refined once more.
+  // Metres. The constant-velocity model "holds" while registrations land within this of its
+  // prediction; only then does registration keep the prediction along degenerate directions.
+  // A registration farther off while the model has not held (start while moving, after a
+  // reset) is deskewed again with the motion it measured and refined once more.
   double motion_model_max_deviation = 0.1;
 };
 

@@ -120,7 +120,8 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
-                                const RegistrationConfig& config) {
+                                const RegistrationConfig& config,
+                                bool prediction_is_motion_model) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
@@ -155,15 +156,12 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
         AnalyseTranslation(system.H.topLeftCorner<3, 3>(), config.degenerate_eigenvalue_ratio);
     const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
     Vector6d dx = -H.ldlt().solve(system.b);
-    // Remapping follows the geometry's own observability, judged without the degeneracy
-    // weights (they make weak directions look weaker still): planes and points together, so
-    // that trees and poles along a featureless road still pin the motion the ground cannot.
-    if (remap) {
-      const Eigen::Matrix3d H_geometry =
-          alpha * H_planar +
-          (1.0 - alpha) * static_cast<double>(pairs.point.size()) * Eigen::Matrix3d::Identity();
-      RemapDegenerateTranslation(
-          AnalyseTranslation(H_geometry, config.degenerate_eigenvalue_ratio), dx);
+    // Remapping keeps the motion model's prediction along the directions the planes leave
+    // free. Point pairs do not count there: along a corridor they follow the ring pattern
+    // and report standstill. A prediction is only worth keeping once the model has held;
+    // from rest or after a reset every direction is left to the data.
+    if (remap && prediction_is_motion_model) {
+      RemapDegenerateTranslation(planar_report, dx);
     }
     if (!dx.allFinite()) break;
     const Eigen::Isometry3d step = ExpSE3(dx);

@@ -28,10 +28,14 @@ struct RegistrationResult {
 // `initial_guess` (paper Sec. III-B). Per iteration: class-wise correspondences within
 // max_correspondence_distance, degeneracy weights on planar pairs, alpha between the planar
 // and the point sums, Geman-McClure kernel of scale kernel_scale.
+// prediction_is_motion_model: the guess extrapolates a motion model that has been holding, so
+// full mode may keep it along degenerate directions (solution remapping); false after a
+// start from rest or a reset, when every direction is left to the data.
 RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
-                                const RegistrationConfig& config);
+                                const RegistrationConfig& config,
+                                bool prediction_is_motion_model = true);
 
 }  // namespace dammloam

@@ -24,10 +24,14 @@ struct RegistrationConfig {
   // robust kernel scale = sigma / 3.
   double initial_threshold = 2.0;       // metres, sigma before any history exists
   double min_motion_threshold = 0.1;    // metres; smaller deviations do not teach the threshold
-  // A translational direction is degenerate when lambda_i / lambda_max is below this.
-  double degenerate_eigenvalue_ratio = 0.02;
+  // A translational direction is degenerate when lambda_i / lambda_max of the planar H_tt is
+  // below this. The free axis of a VLP-16 corridor with its end walls 20-40 m away sits at
+  // 0.004-0.005; at 0.02 a corridor still seeing its end wall nearby was flagged, and the
+  // remapping froze a velocity the walls could still have corrected (dammloam-bench-odometry).
+  double degenerate_eigenvalue_ratio = 0.005;
   // Full mode: translation updates along degenerate directions are dropped, so the estimate
-  // keeps the constant-velocity prediction there (solution remapping).
+  // keeps the constant-velocity prediction there (solution remapping), once the motion model
+  // has held (see OdometryConfig::motion_model_max_deviation).
   bool remap_degenerate_directions = true;
   // Full mode: degeneracy weights apply on every scan, not only where a direction is
   // degenerate (the paper applies them always; in well-conditioned scenes they only remove
