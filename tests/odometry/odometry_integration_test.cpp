@@ -58,6 +58,20 @@ TEST(OdometryIntegration, CorridorDegenerateAxisIsX) {
   }
 }
 
+// A VLP-16 down 30 m of featureless corridor: once the end walls are 20-40 m away, only the
+// constant-velocity model knows the axis, and point pairs on the ring pattern pull towards
+// standstill. The full method keeps the model's prediction there; the same residuals without
+// the degeneracy handling drift metres (measured: full 0.056 m, classes without it 2.02 m,
+// point-to-point 8.6 m).
+TEST(OdometryIntegration, LongSparseCorridorKeepsItsFreeAxis) {
+  const auto seq = GenerateSequence(sim::SceneKind::Corridor, sim::Vlp16(), 300);
+  const auto full = RunPipeline(seq, WithMode(RegistrationMode::kFull));
+  const auto plain = RunPipeline(seq, WithMode(RegistrationMode::kClassesNoDegeneracy));
+  EXPECT_EQ(full.registered, seq.scans.size());
+  EXPECT_LT(full.ape_rmse, 0.25) << "full APE RMSE";
+  EXPECT_GT(plain.ape_rmse, 4.0 * full.ape_rmse) << "classes without degeneracy handling";
+}
+
 // A known rigid motion between two real-geometry scans (outdoor scene, 5 scans apart).
 TEST(OdometryIntegration, KnownMotionBetweenTwoScansIsRecovered) {
   // The simulated drive starts from rest: take two scans after the 2 s ramp-up.
