@@ -1,5 +1,6 @@
 #include "core/map/voxel_hash_map.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -44,11 +45,19 @@ const Eigen::Vector3d& VoxelHashMap::VoxelBlock::AnyPosition() const {
 
 void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
   if (max_points_per_voxel_ < 1) return;  // would leave empty voxels behind
+  // A point closer than voxel / sqrt(max points) to one of its class already in the voxel
+  // adds nothing (as in KISS-ICP): the surface there is sampled. Without this, every revisit
+  // adds near-duplicates until the voxel is full, and the map of a scene the sensor keeps
+  // seeing grows for thousands of scans.
+  const double min_spacing_sq = voxel_size_ * voxel_size_ / max_points_per_voxel_;
   for (const MapPoint& p : points) {
-    VoxelBlock& block = map_[PointToVoxel(p.position, voxel_size_)];
-    auto& same_class = block.by_class[Index(p.label)];
+    // One lookup; a new voxel always receives the point, so no block is left empty.
+    auto& same_class = map_[PointToVoxel(p.position, voxel_size_)].by_class[Index(p.label)];
     if (static_cast<int>(same_class.size()) >= max_points_per_voxel_) continue;
-    same_class.push_back(p);
+    const bool sampled = std::any_of(same_class.begin(), same_class.end(), [&](const MapPoint& q) {
+      return (q.position - p.position).squaredNorm() < min_spacing_sq;
+    });
+    if (!sampled) same_class.push_back(p);
   }
 }
 

@@ -160,6 +160,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   if (initialised_ && dt > config_.max_time_gap) {
     velocity_.setZero();
     motion_model_holds_ = false;
+    last_scan_degenerate_ = false;
     result.status = OdometryStatus::kTimeGap;
   }
 
@@ -182,9 +183,13 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   } else {
     const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
     const double sigma = threshold_.Sigma();
+    RegistrationConfig registration = config_.registration;
+    if (last_scan_degenerate_) {
+      registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
+    }
     RegistrationResult reg =
         RegisterScan(source.points, source.labels, map_, T_pred, 3.0 * sigma, sigma / 3.0,
-                     config_.registration, motion_model_holds_);
+                     registration, motion_model_holds_);
     auto deviation = [&](const Eigen::Isometry3d& T) {
       return (T_pred.inverse() * T).translation().norm();
     };
@@ -201,7 +206,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       source = SelectSource(scan);
       reg = RegisterScan(source.points, source.labels, map_,
                          T_world_last_ * ExpSE3(measured * dt), 3.0 * sigma, sigma / 3.0,
-                         config_.registration, false);
+                         registration, false);
     }
     first_scan_raw_.reset();
     result.timings.registration_ms = watch.LapMs();
@@ -222,6 +227,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     }
     velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
     motion_model_holds_ = deviation(T_new) <= config_.motion_model_max_deviation;
+    last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
   }
 
   if (defer_map) {

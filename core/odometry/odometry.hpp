@@ -68,6 +68,7 @@ class Odometry {
   Vector6d velocity_ = Vector6d::Zero();
   // The last registration landed within config_.motion_model_max_deviation of its prediction.
   bool motion_model_holds_ = false;
+  bool last_scan_degenerate_ = false;  // selects the release ratio (hysteresis)
   // The first scan before deskewing, until the first registration has measured the motion.
   std::optional<ClassifiedScan> first_scan_raw_;
   // A deferred map update: the registered scan (mid-scan frame) and its pose.

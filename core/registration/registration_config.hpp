@@ -29,6 +29,11 @@ struct RegistrationConfig {
   // 0.004-0.005; at 0.02 a corridor still seeing its end wall nearby was flagged, and the
   // remapping froze a velocity the walls could still have corrected (dammloam-bench-odometry).
   double degenerate_eigenvalue_ratio = 0.005;
+  // Hysteresis, applied by the odometry: after a degenerate scan a direction counts as
+  // degenerate until its ratio exceeds this. A direction hovering at the threshold would
+  // otherwise be released for single scans whose weak, ring-biased information then kicks the
+  // held velocity (a 200 m OS1-64 corridor ended at twice its true speed).
+  double degenerate_release_ratio = 0.02;
   // Full mode: translation updates along degenerate directions are dropped, so the estimate
   // keeps the constant-velocity prediction there (solution remapping), once the motion model
   // has held (see OdometryConfig::motion_model_max_deviation).

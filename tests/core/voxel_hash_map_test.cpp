@@ -32,13 +32,31 @@ TEST(VoxelHashMap, SearchCoversExactlyTheNeighbouringVoxels) {
 TEST(VoxelHashMap, CapsPointsPerVoxelPerClass) {
   VoxelHashMap map(1.0, 100.0, 3);
   std::vector<MapPoint> points;
-  for (int i = 0; i < 10; ++i) {
-    points.push_back({{0.05 * i, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground});
-    points.push_back({{0.05 * i, 0.2, 0.1}, {0, 1, 0}, PointClass::Wall});
+  // The eight corners of the voxel: far enough apart that only the cap limits them.
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d corner(i & 1 ? 0.95 : 0.05, i & 2 ? 0.95 : 0.05, i & 4 ? 0.95 : 0.05);
+    points.push_back({corner, {0, 0, 1}, PointClass::Ground});
+    points.push_back({corner, {0, 1, 0}, PointClass::Wall});
   }
   map.AddPoints(points);
   EXPECT_EQ(map.NumVoxels(), 1u);
   EXPECT_EQ(map.NumPoints(), 6u);  // 3 ground + 3 wall: one class cannot crowd out the other
+}
+
+// A surface seen again adds nothing where it is already sampled: a point closer than
+// voxel / sqrt(max points) to one of its class in the voxel is dropped, so revisits do not
+// grow the map.
+TEST(VoxelHashMap, RevisitsDoNotAddNearDuplicates) {
+  VoxelHashMap map(1.0, 100.0, 4);  // spacing 0.5 m
+  map.AddPoints({{{0.1, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground}});
+  map.AddPoints({{{0.3, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground},    // 0.2 m away: dropped
+                 {{0.3, 0.1, 0.1}, {0, 1, 0}, PointClass::Wall},      // other class: kept
+                 {{0.7, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground}});  // 0.6 m away: kept
+  EXPECT_EQ(map.NumPoints(), 3u);
+  for (int revisit = 0; revisit < 10; ++revisit) {
+    map.AddPoints({{{0.1 + 0.01 * revisit, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground}});
+  }
+  EXPECT_EQ(map.NumPoints(), 3u);
 }
 
 TEST(VoxelHashMap, UpdateTransformsPointsAndNormalsAndDropsFarVoxels) {

@@ -133,6 +133,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("initial_threshold", c.initial_threshold);
   s.Get("min_motion_threshold", c.min_motion_threshold);
   s.Get("degenerate_eigenvalue_ratio", c.degenerate_eigenvalue_ratio);
+  s.Get("degenerate_release_ratio", c.degenerate_release_ratio);
   s.Get("remap_degenerate_directions", c.remap_degenerate_directions);
   s.Get("weight_point_residuals", c.weight_point_residuals);
   s.Get("weight_always", c.weight_always);
@@ -231,6 +232,9 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(r.min_motion_threshold >= 0.0, "registration.min_motion_threshold", "must be >= 0");
   Require(r.degenerate_eigenvalue_ratio >= 0.0 && r.degenerate_eigenvalue_ratio < 1.0,
           "registration.degenerate_eigenvalue_ratio", "must be in [0, 1)");
+  Require(r.degenerate_release_ratio >= r.degenerate_eigenvalue_ratio &&
+              r.degenerate_release_ratio < 1.0,
+          "registration.degenerate_release_ratio", "must be in [degenerate_eigenvalue_ratio, 1)");
   Require(r.min_correspondences >= 6, "registration.min_correspondences", "must be >= 6");
   Require(r.covariance_regularisation >= 0.0, "registration.covariance_regularisation",
           "must be >= 0");
