@@ -57,7 +57,10 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
     const bool sampled = std::any_of(same_class.begin(), same_class.end(), [&](const MapPoint& q) {
       return (q.position - p.position).squaredNorm() < min_spacing_sq;
     });
-    if (!sampled) same_class.push_back(p);
+    if (!sampled) {
+      same_class.push_back(p);
+      ++num_points_;
+    }
   }
 }
 
@@ -66,6 +69,7 @@ void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   for (auto it = map_.begin(); it != map_.end();) {
     const Eigen::Vector3d& p = it->second.AnyPosition();
     if ((p - origin).squaredNorm() > max_sq) {
+      for (const auto& points : it->second.by_class) num_points_ -= points.size();
       it = map_.erase(it);
     } else {
       ++it;
@@ -143,12 +147,5 @@ std::vector<MapPoint> VoxelHashMap::Points() const {
   return out;
 }
 
-std::size_t VoxelHashMap::NumPoints() const {
-  std::size_t n = 0;
-  for (const auto& [voxel, block] : map_) {
-    for (const auto& points : block.by_class) n += points.size();
-  }
-  return n;
-}
 
 }  // namespace dammloam

@@ -42,11 +42,12 @@ class VoxelHashMap {
       double max_distance = std::numeric_limits<double>::infinity()) const;
 
   std::vector<MapPoint> Points() const;
-  std::size_t NumPoints() const;
+  std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return map_.size(); }
   bool empty() const { return map_.empty(); }
   void Clear() {
     map_.clear();
+    num_points_ = 0;
     last_crop_origin_.reset();
   }
   double voxel_size() const { return voxel_size_; }
@@ -62,6 +63,7 @@ class VoxelHashMap {
   double max_distance_;
   int max_points_per_voxel_;
   tsl::robin_map<Voxel, VoxelBlock, VoxelHash> map_;
+  std::size_t num_points_ = 0;
   std::optional<Eigen::Vector3d> last_crop_origin_;
 };
 

@@ -240,6 +240,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     UpdateMap(scan, T_new);
   }
   result.timings.map_update_ms = watch.LapMs();
+  result.map_points = map_.NumPoints();
   T_world_last_ = T_new;
   last_stamp_ = scan.scan.t_start;
 

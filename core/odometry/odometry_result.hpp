@@ -67,6 +67,7 @@ struct OdometryResult {
   double alpha = 0.0;                                         // planar share (GenZ-style)
   ClassCounts class_counts{};                                 // of the input scan
   std::uint32_t num_correspondences = 0;
+  std::size_t map_points = 0;  // in the local map after this scan (cropped: stays bounded)
   int iterations = 0;
   bool converged = false;
   StageTimings timings;

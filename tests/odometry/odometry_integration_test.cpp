@@ -74,6 +74,30 @@ TEST(OdometryIntegration, LongSparseCorridorDoesNotCollapseToStandstill) {
   EXPECT_GT(p2p.ape_rmse, 5.0 * full.ape_rmse) << "point-to-point APE RMSE";
 }
 
+// Memory stays flat on a long drive: the map is cropped to max_distance around the sensor, so
+// once the sensor has left its start that far behind, the map's size stops growing. Without
+// the crop the same drive keeps adding points.
+TEST(OdometryIntegration, MapSizeIsBoundedOnALongDrive) {
+  const auto seq = GenerateSequence(sim::SceneKind::Corridor, sim::Vlp16(), 400);  // 38 m
+  auto map_points = [&](double max_distance) {
+    OdometryConfig config;
+    config.map.max_distance = max_distance;
+    const auto run = RunPipeline(seq, config);
+    EXPECT_EQ(run.registered, seq.scans.size());
+    std::size_t peak_first_half = 0, peak_second_half = 0;
+    for (std::size_t i = 0; i < run.results.size(); ++i) {
+      std::size_t& peak = i < run.results.size() / 2 ? peak_first_half : peak_second_half;
+      peak = std::max(peak, run.results[i].map_points);
+    }
+    return std::pair{peak_first_half, peak_second_half};
+  };
+  const auto [cropped_first, cropped_second] = map_points(8.0);
+  EXPECT_GT(cropped_first, 1000u);
+  EXPECT_LT(double(cropped_second), 1.1 * double(cropped_first)) << "cropped map kept growing";
+  const auto [kept_first, kept_second] = map_points(1000.0);
+  EXPECT_GT(double(kept_second), 1.5 * double(kept_first)) << "the drive does not test the crop";
+}
+
 // A known rigid motion between two real-geometry scans (outdoor scene, 5 scans apart).
 TEST(OdometryIntegration, KnownMotionBetweenTwoScansIsRecovered) {
   // The simulated drive starts from rest: take two scans after the 2 s ramp-up.
