@@ -1,6 +1,9 @@
 // Tracking on short simulated sequences with stated bounds that fail if tracking breaks.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+
 #include "core/odometry/pipeline.hpp"
 #include "tools/benchmark/sim_run.hpp"
 
@@ -96,6 +99,42 @@ TEST(OdometryIntegration, MapSizeIsBoundedOnALongDrive) {
   EXPECT_LT(double(cropped_second), 1.1 * double(cropped_first)) << "cropped map kept growing";
   const auto [kept_first, kept_second] = map_points(1000.0);
   EXPECT_GT(double(kept_second), 1.5 * double(kept_first)) << "the drive does not test the crop";
+}
+
+// Odometry started while the sensor is already moving (a daemon restarted on a driving robot):
+// the first scans are deskewed under a zero-velocity guess. The first registration measures the
+// motion; the first scan and itself are then deskewed again, so the very first steps come out
+// at the true speed instead of one of them being centimetres off.
+TEST(OdometryIntegration, StartWhileMovingRecoversTheSpeedAtOnce) {
+  const auto seq = GenerateSequence(sim::SceneKind::Outdoor, sim::Vlp16(), 46);
+  auto first_step_errors = [&](double max_deviation) {
+    OdometryConfig config;
+    config.motion_model_max_deviation = max_deviation;
+    OdometryPipeline pipeline(config, seq.model);
+    std::vector<double> errors;
+    Eigen::Isometry3d last = Eigen::Isometry3d::Identity();
+    for (std::size_t i = 40; i < seq.scans.size(); ++i) {  // at speed after the 2 s ramp-up
+      const OdometryResult r = pipeline.Process(seq.scans[i]);
+      EXPECT_TRUE(Registered(r.status)) << "scan " << i;
+      if (i > 40) {
+        const Eigen::Vector3d step = (last.inverse() * r.T_world_sensor).translation();
+        const Eigen::Vector3d truth =
+            (seq.ground_truth[i - 1].T.inverse() * seq.ground_truth[i].T).translation();
+        errors.push_back((step - truth).norm());
+      }
+      last = r.T_world_sensor;
+    }
+    return errors;
+  };
+  const std::vector<double> redeskewed = first_step_errors(0.1);
+  const std::vector<double> guessed = first_step_errors(1e9);  // never deskewed again
+  std::printf("first steps, error m: redeskewed %.4f %.4f, guessed %.4f %.4f\n", redeskewed[0],
+              redeskewed[1], guessed[0], guessed[1]);
+  // Measured: first two steps 7.2 / 1.4 mm deskewed again, 7.9 / 49.7 mm on the guess.
+  for (double e : redeskewed) EXPECT_LT(e, 0.02);
+  const double worst_redeskewed = *std::max_element(redeskewed.begin(), redeskewed.end());
+  const double worst_guessed = *std::max_element(guessed.begin(), guessed.end());
+  EXPECT_GT(worst_guessed, 3.0 * worst_redeskewed);
 }
 
 // A known rigid motion between two real-geometry scans (outdoor scene, 5 scans apart).
