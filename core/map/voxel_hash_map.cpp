@@ -147,5 +147,4 @@ std::vector<MapPoint> VoxelHashMap::Points() const {
   return out;
 }
 
-
 }  // namespace dammloam

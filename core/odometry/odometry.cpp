@@ -71,15 +71,6 @@ void Odometry::Initialise(const ClassifiedScan& scan) {
   initialised_ = true;
 }
 
-ClassifiedScan Odometry::RawCopy(const ClassifiedScan& scan) {
-  ClassifiedScan copy;
-  copy.scan = scan.scan;
-  copy.labels = scan.labels;
-  copy.normals = scan.normals;
-  copy.class_counts = scan.class_counts;
-  return copy;
-}
-
 // The world frame stays the first scan's start frame (its reported pose is unchanged); only
 // its mid-scan pose and its points in the map change.
 void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
@@ -168,7 +159,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   // is a guess; the raw scan is kept so that it can be redone with the measured motion.
   const bool keep_raw = config_.deskew && scan.scan.has_times() && !motion_model_holds_;
   std::optional<ClassifiedScan> raw;
-  if (keep_raw) raw = RawCopy(scan);
+  if (keep_raw) raw = scan;
   Eigen::Isometry3d T_mid_start = DeskewToMidScan(scan, velocity_);
   result.timings.deskew_ms = watch.LapMs();
 

@@ -50,7 +50,6 @@ class Odometry {
   };
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
   SourcePoints SelectSource(const ClassifiedScan& scan);
-  static ClassifiedScan RawCopy(const ClassifiedScan& scan);
   void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(const ClassifiedScan& scan);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
