@@ -96,21 +96,49 @@ void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
   keyframes_.push_back(std::move(kf));
 }
 
+std::optional<ScanContextCandidate> LoopClosingBackend::NearestOldKeyframe(
+    std::uint32_t query_id) const {
+  const Eigen::Vector3d position = keyframes_[query_id].T_world_sensor.translation();
+  const auto exclude = static_cast<std::uint32_t>(std::max(0, config_.database.exclude_recent));
+  std::optional<std::uint32_t> nearest;
+  double best = config_.proximity_radius;
+  for (std::uint32_t id = 0; id + exclude < query_id; ++id) {
+    const double d = (keyframes_[id].T_world_sensor.translation() - position).norm();
+    if (d < best) {
+      best = d;
+      nearest = id;
+    }
+  }
+  if (!nearest) return std::nullopt;
+  return ScanContextCandidate{
+      *nearest, CompareScanContexts(keyframes_[query_id].descriptor, keyframes_[*nearest].descriptor)};
+}
+
 std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
   std::vector<LoopEvent> events;
   const Keyframe& query = keyframes_[query_id];
+  // The nearest old keyframe in the corrected map goes first: where drift is still small it is
+  // the revisit itself, which a descriptor cannot single out in a corridor that looks the same
+  // all along. Scan Context's candidates cover the places drift has carried far off.
+  std::vector<ScanContextCandidate> candidates;
+  if (const auto nearest = NearestOldKeyframe(query_id)) candidates.push_back(*nearest);
+  for (const ScanContextCandidate& c : database_.Query(query.descriptor)) {
+    if (candidates.empty() || c.id != candidates.front().id) candidates.push_back(c);
+  }
   int verified = 0;
-  for (const ScanContextCandidate& candidate : database_.Query(query.descriptor)) {
+  for (const ScanContextCandidate& candidate : candidates) {
     if (verified++ >= config_.max_verifications_per_keyframe) break;
     const Keyframe& old = keyframes_[candidate.id];
     const double path = keyframe_path_[query_id] - keyframe_path_[candidate.id];
     LoopEvent event = verifier_.Verify(query, old, candidate.match, path);
     if (event.accepted) {
-      Matrix6d covariance = Matrix6d::Zero();
-      covariance.diagonal().head<3>().setConstant(config_.loop_translation_sigma *
-                                                  config_.loop_translation_sigma);
-      covariance.diagonal().tail<3>().setConstant(config_.loop_rotation_sigma *
-                                                  config_.loop_rotation_sigma);
+      // The registration's own covariance (free along what the loop cannot see) plus a floor
+      // for what it does not model: correlated points, keyframe downsampling, deskew.
+      Matrix6d covariance = event.covariance;
+      covariance.diagonal().head<3>().array() +=
+          config_.loop_translation_sigma * config_.loop_translation_sigma;
+      covariance.diagonal().tail<3>().array() +=
+          config_.loop_rotation_sigma * config_.loop_rotation_sigma;
       graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
       loops_.push_back({old.id, query.id, event.T_candidate_query});
       events.push_back(std::move(event));

@@ -25,7 +25,10 @@ struct BackendConfig {
   double keyframe_voxel_size = 0.4;     // keyframe clouds are stored at this resolution
   double global_map_voxel_size = 0.3;
   int max_verifications_per_keyframe = 2;
-  double loop_translation_sigma = 0.05; // metres, loop edge uncertainty
+  // The nearest keyframe within this distance in the corrected map is verified first.
+  double proximity_radius = 3.0;        // metres
+  // Added to every loop edge's registration covariance: what ICP's own does not model.
+  double loop_translation_sigma = 0.05; // metres
   double loop_rotation_sigma = 0.01;    // radians
 };
 
@@ -77,6 +80,8 @@ class LoopClosingBackend {
 
   void IntegrateKeyframe(PendingKeyframe pending);
   std::vector<LoopEvent> DetectLoops(std::uint32_t query_id);
+  // Oldest-excluded nearest keyframe within proximity_radius of the query, if any.
+  std::optional<ScanContextCandidate> NearestOldKeyframe(std::uint32_t query_id) const;
   void PublishCorrections();
 
   BackendConfig config_;

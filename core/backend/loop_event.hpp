@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "core/geometry/se3.hpp"
+
 namespace dammloam::backend {
 
 // One loop candidate and what verification decided about it (accepted or not, and why).
@@ -20,6 +22,12 @@ struct LoopEvent {
   double rmse = 0.0;                     // registration residual, metres
   double translation_observability = 0.0;  // see IcpResult; ~0 in a featureless corridor
   double odometry_disagreement = 0.0;    // metres between registered and odometry relative pose
+  // Translation directions the registration fixes (0..3): 2 in a featureless corridor, whose
+  // axis the loop leaves to odometry.
+  int observed_translation_directions = 0;
+  // Uncertainty of T_candidate_query in the pose graph's edge tangent (translation in the
+  // candidate frame, then rotation): large along the directions the scene leaves free.
+  Matrix6d covariance = Matrix6d::Identity();
   bool accepted = false;
   std::string reason;                    // "accepted" or why it was rejected
 };

@@ -1,10 +1,46 @@
 #include "core/backend/loop_verifier.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cstdio>
 
 namespace dammloam::backend {
 
 namespace {
+
+// Translation directions (target frame) the alignment observes, as a projector: the
+// eigen-directions of the inlier normals' scatter with enough support along them.
+Eigen::Matrix3d ObservedTranslation(const IcpResult& icp, double min_support) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(icp.hessian.topLeftCorner<3, 3>());
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (solver.eigenvalues()(i) >= min_support) {
+      P.noalias() += solver.eigenvectors().col(i) * solver.eigenvectors().col(i).transpose();
+    }
+  }
+  return P;
+}
+
+// Covariance of the registered T_target_source in the pose graph's edge tangent, with no
+// information along unobserved translation directions. The ICP information is for a left
+// perturbation dx = [rho; phi] (t' = t + rho - [t]x phi, R' = R Exp(R^T phi)); the pose
+// graph's edge error is e = [t' - t; log(R^T R')] = A dx.
+Matrix6d EdgeCovariance(const IcpResult& icp, const Eigen::Matrix3d& observed,
+                        const LoopVerifierConfig& config) {
+  Matrix6d P = Matrix6d::Identity();
+  P.topLeftCorner<3, 3>() = observed;
+  const double sigma = std::max(icp.rmse, config.min_noise_sigma);
+  Matrix6d information = P.transpose() * icp.hessian * P / (sigma * sigma);
+  information.diagonal().head<3>().array() +=
+      1.0 / (config.free_translation_sigma * config.free_translation_sigma);
+  information.diagonal().tail<3>().array() +=
+      1.0 / (config.free_rotation_sigma * config.free_rotation_sigma);
+  const Matrix6d covariance_dx = information.ldlt().solve(Matrix6d::Identity());
+  Matrix6d A = Matrix6d::Identity();
+  A.topRightCorner<3, 3>() = -Hat(icp.T_target_source.translation());
+  A.bottomRightCorner<3, 3>() = icp.T_target_source.rotation().transpose();
+  return A * covariance_dx * A.transpose();
+}
 
 std::string Format(const char* fmt, double a, double b) {
   char buffer[128];
@@ -30,42 +66,71 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
     return event;
   }
 
-  // Two starting guesses: Scan Context's yaw at zero offset (same place), and odometry's
-  // relative pose (right when drift is small). Keep whichever registers better.
+  // Two starting guesses: odometry's relative pose (right when drift is small) and Scan
+  // Context's yaw at zero offset (same place). Odometry's goes first: in a corridor, which
+  // looks the same from both ends, the other guess finds a perfect fit at the wrong heading.
   const Eigen::Isometry3d T_odom =
       candidate.T_world_sensor_odom.inverse() * query.T_world_sensor_odom;
   Eigen::Isometry3d T_yaw = Eigen::Isometry3d::Identity();
   T_yaw.linear() = Eigen::AngleAxisd(match.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const IcpTarget target(candidate.points, config_.normal_neighbours);
-  IcpResult best = AlignPointToPlane(query.points, target, T_yaw, config_.icp);
-  const IcpResult from_odom = AlignPointToPlane(query.points, target, T_odom, config_.icp);
-  if (from_odom.inlier_ratio > best.inlier_ratio) best = from_odom;
+  IcpConfig icp_config = config_.icp;
+  icp_config.min_direction_support = config_.min_direction_support;
+  bool first = true;
+  for (const Eigen::Isometry3d& guess : {T_odom, T_yaw}) {
+    const IcpResult icp = AlignPointToPlane(query.points, target, guess, icp_config);
+    LoopEvent judged = event;
+    Judge(icp, T_odom, path_length,
+          first ? config_.min_inlier_ratio_from_odometry : config_.min_inlier_ratio, judged);
+    // Report the first acceptable hypothesis, else the one that fits best.
+    if (judged.accepted || first || judged.inlier_ratio > event.inlier_ratio) event = judged;
+    if (event.accepted) break;
+    first = false;
+  }
+  return event;
+}
 
-  event.T_candidate_query = best.T_target_source;
-  event.inlier_ratio = best.inlier_ratio;
-  event.rmse = best.rmse;
-  event.translation_observability = best.translation_observability;
-  event.odometry_disagreement =
-      (best.T_target_source.translation() - T_odom.translation()).norm();
+void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Isometry3d& T_odom,
+                         double path_length, double min_inlier_ratio, LoopEvent& event) const {
+  const Eigen::Matrix3d observed = ObservedTranslation(icp, config_.min_direction_support);
+  event.T_candidate_query = icp.T_target_source;
+  event.inlier_ratio = icp.inlier_ratio;
+  event.rmse = icp.rmse;
+  event.translation_observability = icp.translation_observability;
+  event.observed_translation_directions = static_cast<int>(std::lround(observed.trace()));
+  event.covariance = EdgeCovariance(icp, observed, config_);
+  // Judged in every direction, the free ones included: the registration keeps odometry's value
+  // there, so a loop that ends far from it along a corridor's axis has slid to a look-alike
+  // place, and even its cross-corridor claim is then off by the axis' small tilt times the slide.
+  event.odometry_disagreement = (icp.T_target_source.translation() - T_odom.translation()).norm();
+  const double rotation_disagreement =
+      Eigen::AngleAxisd(T_odom.rotation().transpose() * icp.T_target_source.rotation()).angle();
   const double drift_budget = config_.drift_offset + config_.drift_per_metre * path_length;
+  const double rotation_budget =
+      config_.rotation_drift_offset + config_.rotation_drift_per_metre * path_length;
 
-  if (best.inlier_ratio < config_.min_inlier_ratio) {
-    event.reason = Format("inlier ratio %.2f below %.2f", best.inlier_ratio,
-                          config_.min_inlier_ratio);
-  } else if (best.rmse > config_.max_rmse) {
-    event.reason = Format("residual %.3f m above %.3f m", best.rmse, config_.max_rmse);
-  } else if (best.translation_observability < config_.min_translation_observability) {
-    event.reason = Format("degenerate geometry: translation observability %.4f below %.4f",
-                          best.translation_observability,
-                          config_.min_translation_observability);
+  event.accepted = false;
+  if (icp.inlier_ratio < min_inlier_ratio) {
+    event.reason = Format("inlier ratio %.2f below %.2f", icp.inlier_ratio, min_inlier_ratio);
+  } else if (icp.rmse > config_.max_rmse) {
+    event.reason = Format("residual %.3f m above %.3f m", icp.rmse, config_.max_rmse);
+  } else if (event.observed_translation_directions < config_.min_observed_directions) {
+    event.reason = Format("degenerate geometry: %.0f of 3 translation directions observed, "
+                          "%.0f needed",
+                          event.observed_translation_directions,
+                          config_.min_observed_directions);
   } else if (event.odometry_disagreement > drift_budget) {
     event.reason = Format("disagrees with odometry by %.2f m (drift budget %.2f m)",
                           event.odometry_disagreement, drift_budget);
+  } else if (rotation_disagreement > rotation_budget) {
+    event.reason = Format("disagrees with odometry by %.2f rad (drift budget %.2f rad)",
+                          rotation_disagreement, rotation_budget);
   } else {
     event.accepted = true;
-    event.reason = "accepted";
+    event.reason = event.observed_translation_directions == 3
+                       ? "accepted"
+                       : "accepted: constrains 2 of 3 translation directions";
   }
-  return event;
 }
 
 }  // namespace dammloam::backend

@@ -8,7 +8,11 @@ namespace dammloam::backend {
 
 struct LoopVerifierConfig {
   IcpConfig icp;
+  // Overlap needed from the registration started at Scan Context's guess; one started at
+  // odometry's guess that stays within the drift budget has odometry's word for it and may
+  // overlap less (keyframes metres apart in a corridor share ~45% of their points).
   double min_inlier_ratio = 0.6;
+  double min_inlier_ratio_from_odometry = 0.4;
   double max_rmse = 0.12;                // metres
   // The registered relative pose may disagree with odometry by at most
   // drift_per_metre * path length between the keyframes + drift_offset: this rejects look-alike
@@ -16,13 +20,25 @@ struct LoopVerifierConfig {
   double drift_per_metre = 0.05;
   double drift_offset = 1.0;             // metres
   int normal_neighbours = 10;
-  // Below this the registration cannot fix some translation direction: reject. Measured on the
-  // simulator: featureless corridor loops 0.016-0.068, outdoor loops >= 0.17.
-  double min_translation_observability = 0.1;
+  // The relative rotation may disagree with odometry by at most this much.
+  double rotation_drift_per_metre = 0.005;  // radians per metre of path
+  double rotation_drift_offset = 0.1;       // radians
+  // A translation direction counts as observed when the inlier normals hold at least this many
+  // points' worth of support along it. A loop must observe min_observed_directions of them; a
+  // corridor loop observes two and constrains the pose graph only across the corridor (the
+  // ICP information along the axis is a few far points at grazing angles: not to be trusted).
+  double min_direction_support = 25.0;
+  int min_observed_directions = 2;
+  double min_noise_sigma = 0.02;         // floor on the residual RMS used as noise, metres
+  // Weak priors that keep the loop's information invertible along free directions.
+  double free_translation_sigma = 100.0; // metres
+  double free_rotation_sigma = 1.0;      // radians
 };
 
 // Registers a Scan Context candidate pair with point-to-plane ICP and decides whether it is a
-// real loop. Stateless apart from its config, so it may run on any thread.
+// real loop; an accepted loop carries its covariance from the registration's information, so
+// a partly degenerate loop constrains only what it observes. Stateless apart from its config,
+// so it may run on any thread.
 class LoopVerifier {
  public:
   explicit LoopVerifier(const LoopVerifierConfig& config = {}) : config_(config) {}
@@ -32,6 +48,10 @@ class LoopVerifier {
                    const ScanContextMatch& match, double path_length) const;
 
  private:
+  // Fills `event` from one registration and decides on it.
+  void Judge(const IcpResult& icp, const Eigen::Isometry3d& T_odom, double path_length,
+             double min_inlier_ratio, LoopEvent& event) const;
+
   LoopVerifierConfig config_;
 };
 

@@ -35,6 +35,19 @@ Eigen::Vector3d PcaNormal(const PointKdTree& tree, const Eigen::Vector3d& p, int
   return solver.eigenvectors().col(0);  // smallest eigenvalue first
 }
 
+// Projects the translation part of the step onto the eigen-directions of the translational
+// block of H with at least min_support eigenvalue.
+void KeepSupportedTranslation(const Matrix6d& H, double min_support, Vector6d& dx) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(H.topLeftCorner<3, 3>());
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (solver.eigenvalues()(i) >= min_support) {
+      P.noalias() += solver.eigenvectors().col(i) * solver.eigenvectors().col(i).transpose();
+    }
+  }
+  dx.head<3>() = P * dx.head<3>();
+}
+
 }  // namespace
 
 std::vector<std::size_t> VoxelDownsampleIndices(const std::vector<Eigen::Vector3d>& points,
@@ -101,7 +114,8 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     }
     if (H.trace() <= 0.0) break;
     // Tiny damping keeps degenerate directions (corridors) from blowing up the step.
-    const Vector6d dx = -(H + 1e-6 * Matrix6d::Identity()).ldlt().solve(b);
+    Vector6d dx = -(H + 1e-6 * Matrix6d::Identity()).ldlt().solve(b);
+    if (config.min_direction_support > 0.0) KeepSupportedTranslation(H, config.min_direction_support, dx);
     result.T_target_source = Normalized(ExpSE3(dx) * result.T_target_source);
     result.iterations = it + 1;
     if (progress >= 1.0 && dx.norm() < config.convergence_step) {
@@ -124,6 +138,9 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     const Eigen::Vector3d& n = target.normals()[index];
     const double r = n.isZero() ? std::sqrt(squared) : n.dot(p - target.tree().points()[index]);
     normal_scatter += n * n.transpose();
+    Vector6d J;
+    J << n, p.cross(n);
+    result.hessian.noalias() += J * J.transpose();
     sum_squared += r * r;
     ++inliers;
   }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/backend/point_kdtree.hpp"
+#include "core/geometry/se3.hpp"
 
 namespace dammloam::backend {
 
@@ -32,6 +33,11 @@ struct IcpConfig {
   double final_max_correspondence = 0.6;
   double inlier_distance = 0.3;             // nearest-neighbour distance counted as overlap
   double convergence_step = 1e-4;           // stop when the update is this small (m / rad)
+  // When > 0, translation steps are kept only along directions whose normals hold at least
+  // this many (robust-weighted) points' worth of support: along a corridor's axis the few far
+  // points that see its ends are outvoted by small biases of thousands of wall points, and an
+  // unconstrained alignment slides towards "no motion" (solution remapping).
+  double min_direction_support = 0.0;
 };
 
 struct IcpResult {
@@ -41,6 +47,11 @@ struct IcpResult {
   // Smallest eigenvalue of sum(n n^T) / inliers over the inlier normals: near 0 when some
   // translation direction is unconstrained (a featureless corridor), at most 1/3.
   double translation_observability = 0.0;
+  // Gauss-Newton information of the final alignment at unit noise: sum J J^T over the inlier
+  // point-to-plane pairs, J = [n; p x n] for a left perturbation of T_target_source, tangent
+  // [t; r]. Divide by the noise variance for a Fisher information; near singular along the
+  // directions the scene leaves free.
+  Matrix6d hessian = Matrix6d::Zero();
   int iterations = 0;
   bool converged = false;
 };

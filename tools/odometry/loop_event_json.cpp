@@ -20,6 +20,7 @@ std::string LoopEventJsonLine(const backend::LoopEvent& event) {
       {"rmse", event.rmse},
       {"translation_observability", event.translation_observability},
       {"odometry_disagreement", event.odometry_disagreement},
+      {"observed_translation_directions", event.observed_translation_directions},
       {"T_candidate_query", {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}},
       {"accepted", event.accepted},
       {"reason", event.reason},
