@@ -18,22 +18,26 @@ PairKind Classify(RegistrationMode mode, PointClass source_label, const MapPoint
     case RegistrationMode::kFull:
     case RegistrationMode::kClassesNoDegeneracy: break;
   }
-  return IsPlanar(source_label) && has_normal ? PairKind::kPlanar : PairKind::kPoint;
+  // An unknown source point has taken the map point's class (see FindCorrespondences).
+  const PointClass surface = source_label == PointClass::Unknown ? target.label : source_label;
+  return IsPlanar(surface) && has_normal ? PairKind::kPlanar : PairKind::kPoint;
 }
 }  // namespace
 
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
-                                      RegistrationMode mode) {
+                                      RegistrationMode mode, bool unknown_defers_to_map) {
   const std::size_t n = source_world.size();
   std::vector<const MapPoint*> match(n, nullptr);
   std::vector<PairKind> kind(n, PairKind::kNone);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
+      const bool any_class =
+          !ClassWise(mode) || (unknown_defers_to_map && label == PointClass::Unknown);
       const std::optional<PointClass> wanted =
-          ClassWise(mode) ? std::optional<PointClass>(label) : std::nullopt;
+          any_class ? std::nullopt : std::optional<PointClass>(label);
       const MapPoint* q = map.ClosestNeighbour(source_world[i], wanted, max_distance);
       if (q == nullptr) continue;
       match[i] = q;

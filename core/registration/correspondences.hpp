@@ -24,11 +24,13 @@ struct CorrespondenceSet {
 
 // Nearest-neighbour pairs within max_distance, in source order (deterministic; TBB parallel).
 // Class-wise modes: a source point only matches map points of its own class; ground, roof and
-// wall become point-to-plane, edge and unknown point-to-point. kPointToPoint ignores classes
-// and normals; kPlaneOnly ignores classes and makes every pair with a map normal planar.
+// wall become point-to-plane, edge and unknown point-to-point. With unknown_defers_to_map an
+// unknown source point matches any class and is point-to-plane on a planar map point (see
+// RegistrationConfig). kPointToPoint ignores classes and normals; kPlaneOnly ignores classes
+// and makes every pair with a map normal planar.
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
-                                      RegistrationMode mode);
+                                      RegistrationMode mode, bool unknown_defers_to_map = true);
 
 }  // namespace dammloam

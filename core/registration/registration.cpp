@@ -130,8 +130,9 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
 
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
-    const CorrespondenceSet pairs = FindCorrespondences(source_world, labels, map,
-                                                        max_correspondence_distance, config.mode);
+    const CorrespondenceSet pairs =
+        FindCorrespondences(source_world, labels, map, max_correspondence_distance, config.mode,
+                            config.unknown_defers_to_map);
     if (pairs.size() < static_cast<std::size_t>(config.min_correspondences)) break;
     result.enough_correspondences = true;
 

@@ -45,6 +45,12 @@ struct RegistrationConfig {
   // Full mode: point residuals are weighted per eigen-direction like planar normals, so edge
   // and unknown points cannot pin a direction the planes leave weak.
   bool weight_point_residuals = true;
+  // Class-wise modes: an `unknown` source point (the scan could not judge its surface, as on a
+  // far wall two rings tall) matches the nearest map point of any class and takes that point's
+  // residual: point-to-plane on a map plane, seen nearer and better, point-to-point otherwise.
+  // Off, it only matches unknown map points, and a VLP-16 corridor loses the far end walls
+  // that are the only constraint along its axis.
+  bool unknown_defers_to_map = true;
   int min_correspondences = 30;         // fewer: the scan is not registered
   double covariance_regularisation = 1e-6;  // relative to trace(H)/6, keeps H invertible
 };

@@ -135,6 +135,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("degenerate_eigenvalue_ratio", c.degenerate_eigenvalue_ratio);
   s.Get("degenerate_release_ratio", c.degenerate_release_ratio);
   s.Get("remap_degenerate_directions", c.remap_degenerate_directions);
+  s.Get("unknown_defers_to_map", c.unknown_defers_to_map);
   s.Get("weight_point_residuals", c.weight_point_residuals);
   s.Get("weight_always", c.weight_always);
   s.Get("min_correspondences", c.min_correspondences);
