@@ -78,7 +78,13 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
   icp_config.min_direction_support = config_.min_direction_support;
   bool first = true;
   for (const Eigen::Isometry3d& guess : {T_odom, T_yaw}) {
-    const IcpResult icp = AlignPointToPlane(query.points, target, guess, icp_config);
+    IcpResult icp = AlignPointToPlane(query.points, target, guess, icp_config);
+    // Along directions the final alignment does not observe it may still have drifted (a few
+    // far points cut by one ring pose as planes while it iterates): keep the guess's value.
+    const Eigen::Matrix3d free = Eigen::Matrix3d::Identity() -
+                                 ObservedTranslation(icp, config_.min_direction_support);
+    icp.T_target_source.translation() -=
+        free * (icp.T_target_source.translation() - guess.translation());
     LoopEvent judged = event;
     Judge(icp, T_odom, path_length,
           first ? config_.min_inlier_ratio_from_odometry : config_.min_inlier_ratio, judged);

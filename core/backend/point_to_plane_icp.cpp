@@ -32,13 +32,24 @@ Eigen::Vector3d PcaNormal(const PointKdTree& tree, const Eigen::Vector3d& p, int
     cov += d * d.transpose();
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+  // Neighbours along one line (a single far ring) leave the normal anywhere around that line:
+  // no normal rather than a random one, which in a corridor would pose as information along
+  // its axis.
+  constexpr double kMinPlanarSpread = 0.05;  // second / largest eigenvalue
+  if (solver.eigenvalues()(1) < kMinPlanarSpread * solver.eigenvalues()(2)) {
+    return Eigen::Vector3d::Zero();
+  }
   return solver.eigenvectors().col(0);  // smallest eigenvalue first
 }
 
-// Projects the translation part of the step onto the eigen-directions of the translational
-// block of H with at least min_support eigenvalue.
-void KeepSupportedTranslation(const Matrix6d& H, double min_support, Vector6d& dx) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(H.topLeftCorner<3, 3>());
+// Cauchy weight of a residual for counting information: pairs that do not fit their plane
+// (far corners cut by one ring look like planes facing anywhere) must not count.
+double Fit(double r, double kernel) { return 1.0 / (1.0 + (r / kernel) * (r / kernel)); }
+
+// Projects the translation part of the step onto the eigen-directions of the support scatter
+// (sum of weighted n n^T) with at least min_support eigenvalue.
+void KeepSupportedTranslation(const Eigen::Matrix3d& support, double min_support, Vector6d& dx) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(support);
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
   for (int i = 0; i < 3; ++i) {
     if (solver.eigenvalues()(i) >= min_support) {
@@ -115,7 +126,9 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     if (H.trace() <= 0.0) break;
     // Tiny damping keeps degenerate directions (corridors) from blowing up the step.
     Vector6d dx = -(H + 1e-6 * Matrix6d::Identity()).ldlt().solve(b);
-    if (config.min_direction_support > 0.0) KeepSupportedTranslation(H, config.min_direction_support, dx);
+    if (config.min_direction_support > 0.0) {
+      KeepSupportedTranslation(H.topLeftCorner<3, 3>(), config.min_direction_support, dx);
+    }
     result.T_target_source = Normalized(ExpSE3(dx) * result.T_target_source);
     result.iterations = it + 1;
     if (progress >= 1.0 && dx.norm() < config.convergence_step) {
@@ -140,7 +153,7 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     normal_scatter += n * n.transpose();
     Vector6d J;
     J << n, p.cross(n);
-    result.hessian.noalias() += J * J.transpose();
+    result.hessian.noalias() += Fit(r, config.information_kernel) * J * J.transpose();
     sum_squared += r * r;
     ++inliers;
   }

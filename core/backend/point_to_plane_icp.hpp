@@ -38,6 +38,8 @@ struct IcpConfig {
   // points that see its ends are outvoted by small biases of thousands of wall points, and an
   // unconstrained alignment slides towards "no motion" (solution remapping).
   double min_direction_support = 0.0;
+  // Cauchy scale (metres) of the final residuals weighting the pairs in IcpResult::hessian.
+  double information_kernel = 0.05;
 };
 
 struct IcpResult {
@@ -47,8 +49,8 @@ struct IcpResult {
   // Smallest eigenvalue of sum(n n^T) / inliers over the inlier normals: near 0 when some
   // translation direction is unconstrained (a featureless corridor), at most 1/3.
   double translation_observability = 0.0;
-  // Gauss-Newton information of the final alignment at unit noise: sum J J^T over the inlier
-  // point-to-plane pairs, J = [n; p x n] for a left perturbation of T_target_source, tangent
+  // Gauss-Newton information of the final alignment at unit noise: sum w J J^T over the inlier
+  // point-to-plane pairs (w: Cauchy weight of the residual, scale information_kernel), J = [n; p x n] for a left perturbation of T_target_source, tangent
   // [t; r]. Divide by the noise variance for a Fisher information; near singular along the
   // directions the scene leaves free.
   Matrix6d hessian = Matrix6d::Zero();

@@ -86,6 +86,31 @@ TEST(Correspondences, ClassWiseMatchesOnlyTheSameClass) {
   EXPECT_TRUE(FindCorrespondences(source, labels, map, 0.01, RegistrationMode::kFull).size() == 0);
 }
 
+// An unknown source point (its scan could not judge the surface) takes the class of the map
+// point it meets: point-to-plane on a map wall, point-to-point on a map edge. Without the
+// rule it only meets unknown map points.
+TEST(Correspondences, UnknownSourcePointDefersToTheMapClass) {
+  test::LabelledCloud map_cloud;
+  map_cloud.Add({0.0, 0.0, 0.0}, PointClass::Wall, {1, 0, 0});
+  map_cloud.Add({0.0, 3.0, 0.0}, PointClass::Edge, {0, 0, 0});
+  map_cloud.Add({0.0, 6.0, 0.0}, PointClass::Unknown, {0, 0, 0});
+  const VoxelHashMap map = MapOf(map_cloud);
+  const std::vector<Eigen::Vector3d> source{{0.05, 0.0, 0.0}, {0.0, 3.05, 0.0}};
+  const std::vector<PointClass> labels{PointClass::Unknown, PointClass::Unknown};
+
+  const CorrespondenceSet deferred =
+      FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, true);
+  ASSERT_EQ(deferred.planar.size(), 1u);  // unknown -> map wall: point-to-plane on its normal
+  EXPECT_DOUBLE_EQ(deferred.planar[0].target.y(), 0.0);
+  EXPECT_NEAR(deferred.planar[0].normal.x(), 1.0, 1e-9);
+  ASSERT_EQ(deferred.point.size(), 1u);   // unknown -> map edge: point-to-point
+  EXPECT_DOUBLE_EQ(deferred.point[0].target.y(), 3.0);
+
+  const CorrespondenceSet strict =
+      FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, false);
+  EXPECT_EQ(strict.size(), 0u);  // the only unknown map point is 3 m away from both
+}
+
 // The Jacobian order [t; r] pinned on the real registration: in a corridor along x, the
 // weakest translational eigen-direction of the Hessian must be +-x and flagged degenerate.
 TEST(Registration, CorridorDegenerateAxisIsX) {
