@@ -1,25 +1,11 @@
 #include "core/backend/loop_verifier.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdio>
 
 namespace dammloam::backend {
 
 namespace {
-
-// Translation directions (target frame) the alignment observes, as a projector: the
-// eigen-directions of the inlier normals' scatter with enough support along them.
-Eigen::Matrix3d ObservedTranslation(const IcpResult& icp, double min_support) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(icp.hessian.topLeftCorner<3, 3>());
-  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (solver.eigenvalues()(i) >= min_support) {
-      P.noalias() += solver.eigenvectors().col(i) * solver.eigenvectors().col(i).transpose();
-    }
-  }
-  return P;
-}
 
 // Covariance of the registered T_target_source in the pose graph's edge tangent, with no
 // information along unobserved translation directions. The ICP information is for a left
@@ -81,12 +67,12 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
     IcpResult icp = AlignPointToPlane(query.points, target, guess, icp_config);
     // Along directions the final alignment does not observe it may still have drifted (a few
     // far points cut by one ring pose as planes while it iterates): keep the guess's value.
-    const Eigen::Matrix3d free = Eigen::Matrix3d::Identity() -
-                                 ObservedTranslation(icp, config_.min_direction_support);
-    icp.T_target_source.translation() -=
-        free * (icp.T_target_source.translation() - guess.translation());
+    const Eigen::Matrix3d observed =
+        SupportedDirections(icp.hessian.topLeftCorner<3, 3>(), config_.min_direction_support);
+    icp.T_target_source.translation() -= (Eigen::Matrix3d::Identity() - observed) *
+                                         (icp.T_target_source.translation() - guess.translation());
     LoopEvent judged = event;
-    Judge(icp, T_odom, path_length,
+    Judge(icp, observed, T_odom, path_length,
           first ? config_.min_inlier_ratio_from_odometry : config_.min_inlier_ratio, judged);
     // Report the first acceptable hypothesis, else the one that fits best.
     if (judged.accepted || first || judged.inlier_ratio > event.inlier_ratio) event = judged;
@@ -96,9 +82,9 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
   return event;
 }
 
-void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Isometry3d& T_odom,
-                         double path_length, double min_inlier_ratio, LoopEvent& event) const {
-  const Eigen::Matrix3d observed = ObservedTranslation(icp, config_.min_direction_support);
+void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
+                         const Eigen::Isometry3d& T_odom, double path_length,
+                         double min_inlier_ratio, LoopEvent& event) const {
   event.T_candidate_query = icp.T_target_source;
   event.inlier_ratio = icp.inlier_ratio;
   event.rmse = icp.rmse;

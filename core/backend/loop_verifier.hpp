@@ -48,9 +48,11 @@ class LoopVerifier {
                    const ScanContextMatch& match, double path_length) const;
 
  private:
-  // Fills `event` from one registration and decides on it.
-  void Judge(const IcpResult& icp, const Eigen::Isometry3d& T_odom, double path_length,
-             double min_inlier_ratio, LoopEvent& event) const;
+  // Fills `event` from one registration (`observed`: projector onto the translation
+  // directions it fixes) and decides on it.
+  void Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
+             const Eigen::Isometry3d& T_odom, double path_length, double min_inlier_ratio,
+             LoopEvent& event) const;
 
   LoopVerifierConfig config_;
 };

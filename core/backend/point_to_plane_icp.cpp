@@ -46,9 +46,9 @@ Eigen::Vector3d PcaNormal(const PointKdTree& tree, const Eigen::Vector3d& p, int
 // (far corners cut by one ring look like planes facing anywhere) must not count.
 double Fit(double r, double kernel) { return 1.0 / (1.0 + (r / kernel) * (r / kernel)); }
 
-// Projects the translation part of the step onto the eigen-directions of the support scatter
-// (sum of weighted n n^T) with at least min_support eigenvalue.
-void KeepSupportedTranslation(const Eigen::Matrix3d& support, double min_support, Vector6d& dx) {
+}  // namespace
+
+Eigen::Matrix3d SupportedDirections(const Eigen::Matrix3d& support, double min_support) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(support);
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
   for (int i = 0; i < 3; ++i) {
@@ -56,10 +56,8 @@ void KeepSupportedTranslation(const Eigen::Matrix3d& support, double min_support
       P.noalias() += solver.eigenvectors().col(i) * solver.eigenvectors().col(i).transpose();
     }
   }
-  dx.head<3>() = P * dx.head<3>();
+  return P;
 }
-
-}  // namespace
 
 std::vector<std::size_t> VoxelDownsampleIndices(const std::vector<Eigen::Vector3d>& points,
                                                 double voxel_size) {
@@ -127,7 +125,9 @@ IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const Ic
     // Tiny damping keeps degenerate directions (corridors) from blowing up the step.
     Vector6d dx = -(H + 1e-6 * Matrix6d::Identity()).ldlt().solve(b);
     if (config.min_direction_support > 0.0) {
-      KeepSupportedTranslation(H.topLeftCorner<3, 3>(), config.min_direction_support, dx);
+      // Solution remapping: no step along directions the pairs do not support.
+      dx.head<3>() = SupportedDirections(H.topLeftCorner<3, 3>(), config.min_direction_support) *
+                     dx.head<3>();
     }
     result.T_target_source = Normalized(ExpSE3(dx) * result.T_target_source);
     result.iterations = it + 1;

@@ -58,6 +58,10 @@ struct IcpResult {
   bool converged = false;
 };
 
+// Projector onto the eigen-directions of a translational support scatter (sum of weighted
+// n n^T) whose eigenvalue reaches min_support: the translation directions a registration fixes.
+Eigen::Matrix3d SupportedDirections(const Eigen::Matrix3d& support, double min_support);
+
 // Compact robust point-to-plane ICP (paper eq. pt2pl) used by loop verification and
 // localization; Gauss-Newton on SE(3) with a Cauchy-type weight.
 IcpResult AlignPointToPlane(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target,
