@@ -126,7 +126,11 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
   Transform(initial_guess, source_world);
-  const bool weighted = UsesDegeneracyWeights(config.mode);
+  // With remapping configured, the weights go with it: they take the weak directions away
+  // from the data, which only the held prediction can then fill. Without a trusted prediction
+  // (a start, a reset, a turn the model missed) the data keeps them, unweighted.
+  const bool weighted = UsesDegeneracyWeights(config.mode) &&
+                        (prediction_is_motion_model || !config.remap_degenerate_directions);
   const bool remap = weighted && config.remap_degenerate_directions;
 
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
