@@ -117,11 +117,14 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
   // Gravity-aligned normals and their votes once per pixel, not once per window they are in.
   std::vector<Eigen::Vector3f> aligned(normals.size());
   std::vector<PointClass> pixel_votes(normals.size(), PointClass::Unknown);
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    if (!valid[i]) continue;
-    aligned[i] = R * normals[i];
-    pixel_votes[i] = Vote(aligned[i]);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, normals.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        if (!valid[i]) continue;
+                        aligned[i] = R * normals[i];
+                        pixel_votes[i] = Vote(aligned[i]);
+                      }
+                    });
 
   std::vector<PointClass> labels(normals.size(), PointClass::Unknown);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& rr) {

@@ -1,5 +1,8 @@
 #include "core/preprocess/feature_extractor.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -83,17 +86,19 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
       config_.range_image.max_inherit_distance * config_.range_image.max_inherit_distance;
   const auto& pixel_normals = normal_map.normals();
   const int cols = image.cols();
-  for (std::size_t i = 0; i < n; ++i) {
-    const int pixel = image.pixel_of(i);
-    if (pixel < 0) continue;
-    const int winner = image.index(pixel / cols, pixel % cols);
-    if (winner != static_cast<int>(i) &&
-        (points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2) {
-      continue;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const int pixel = image.pixel_of(i);
+      if (pixel < 0) continue;
+      const int winner = image.index(pixel / cols, pixel % cols);
+      if (winner != static_cast<int>(i) &&
+          (points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2) {
+        continue;
+      }
+      out.labels[i] = pixel_labels[static_cast<std::size_t>(pixel)];
+      out.normals[i] = pixel_normals[static_cast<std::size_t>(pixel)];
     }
-    out.labels[i] = pixel_labels[static_cast<std::size_t>(pixel)];
-    out.normals[i] = pixel_normals[static_cast<std::size_t>(pixel)];
-  }
+  });
   out.class_counts.fill(0);
   for (const PointClass label : out.labels) ++out.class_counts[Index(label)];
   out.classification_ms = MillisecondsSince(start);

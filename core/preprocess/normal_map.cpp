@@ -33,8 +33,9 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
 // would produce between these two rays: |dr| <= r_mean * angle(p, q) * cot(beta_min) + noise.
 // The ray angle is taken as the chord between unit directions (exact enough below a few
 // degrees), which needs no square root.
-bool NormalMap::Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q,
-                           float rq) const {
+[[gnu::always_inline]] inline bool NormalMap::Continuous(const Eigen::Vector3f& p, float rp,
+                                                        const Eigen::Vector3f& q,
+                                                        float rq) const {
   const float jump = std::abs(rp - rq) - range_noise_;
   if (jump <= 0.0f) return true;
   const float chord2 = (p / rp - q / rq).squaredNorm();  // stable in single precision

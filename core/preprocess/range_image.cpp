@@ -142,7 +142,11 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   const std::size_t n = points.size();
   // point_row_: -1 = not projectable, 0 = pending (the row computations overwrite it).
   point_row_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) point_row_[i] = Projectable(points[i]) ? 0 : -1;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      point_row_[i] = Projectable(points[i]) ? 0 : -1;
+    }
+  });
 
   if (rings.size() == n && n > 0) {
     ComputeRowsFromRings(rings);
@@ -173,11 +177,13 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
       index_[pixel] = static_cast<int>(i);
     }
   }
-  for (std::size_t pixel = 0; pixel < pixels; ++pixel) {
-    if (index_[pixel] < 0) continue;
-    const Eigen::Vector3d& p = points[static_cast<std::size_t>(index_[pixel])];
-    pixels_[pixel] = {p.cast<float>(), static_cast<float>(p.norm())};
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096), [&](const auto& range) {
+    for (std::size_t pixel = range.begin(); pixel < range.end(); ++pixel) {
+      if (index_[pixel] < 0) continue;
+      const Eigen::Vector3d& p = points[static_cast<std::size_t>(index_[pixel])];
+      pixels_[pixel] = {p.cast<float>(), static_cast<float>(p.norm())};
+    }
+  });
 }
 
 }  // namespace dammloam
