@@ -133,14 +133,15 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
     Eigen::Vector3f window[9];
     PointClass votes[9];
     for (int r = rr.begin(); r < rr.end(); ++r) {
+      const int first_row = std::max(r - 1, 0), last_row = std::min(r + 1, rows - 1);
       for (int c = 0; c < cols; ++c) {
+        // The 3x3 window, rows top to bottom, columns left to right, wrapping around 360 deg.
+        const int window_cols[3] = {c == 0 ? cols - 1 : c - 1, c, c == cols - 1 ? 0 : c + 1};
         int count = 0;
-        for (int dr = -1; dr <= 1; ++dr) {
-          const int wr = r + dr;
-          if (wr < 0 || wr >= rows) continue;
-          for (int dc = -1; dc <= 1; ++dc) {
-            const int wc = c + dc < 0 ? cols - 1 : (c + dc >= cols ? 0 : c + dc);
-            const std::size_t pixel = static_cast<std::size_t>(wr) * cols + wc;
+        for (int wr = first_row; wr <= last_row; ++wr) {
+          const std::size_t row_start = static_cast<std::size_t>(wr) * cols;
+          for (const int wc : window_cols) {
+            const std::size_t pixel = row_start + static_cast<std::size_t>(wc);
             if (!valid[pixel]) continue;
             window[count] = aligned[pixel];
             votes[count++] = pixel_votes[pixel];

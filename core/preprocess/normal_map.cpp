@@ -50,8 +50,8 @@ NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
 // (a sensor-independent length). Empty pixels (no return, or azimuth aliasing between firing
 // angles and image columns) are stepped over rather than voiding the normal.
 // Returns the tangent, or nothing if no continuous neighbour exists on both sides.
-std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r, int c,
-                                                  int dr, int dc) const {
+template <bool kAlongRow>
+std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r, int c) const {
   const Eigen::Vector3f& p = image.point(r, c);
   struct Side {
     const Eigen::Vector3f* point = nullptr;
@@ -60,21 +60,26 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
   };
   const float rp = image.range(r, c);
   const float noise_sq = range_noise_ * range_noise_;
+  const float baseline_sq = 4.0f * min_baseline_ * min_baseline_;
   Side sides[2];
   std::optional<Eigen::Vector3f> tangent;
   // Pixels are dense (0.35 deg at 1024 columns): past the immediate neighbour (the paper's
   // discontinuity test) the walk takes strides, so that reaching the baseline costs about two
   // steps at any range instead of up to max_stencil.
-  const int stride = Stride(rp, dc != 0 ? column_spacing_rad_ : row_spacing_rad_);
+  const int stride = Stride(rp, kAlongRow ? column_spacing_rad_ : row_spacing_rad_);
   for (int k = 1; k <= max_stencil_; k = k == 1 ? 1 + stride : k + stride) {
     for (int s = 0; s < 2; ++s) {
       Side& side = sides[s];
       if (side.blocked) continue;
-      const int sign = s == 0 ? -1 : 1;
-      int rr = r + sign * k * dr;
-      int cc = c + sign * k * dc;
-      if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
-      cc = cc < 0 ? cc + cols_ : (cc >= cols_ ? cc - cols_ : cc);  // 360 deg wrap
+      const int step = s == 0 ? -k : k;
+      int rr = r, cc = c;
+      if constexpr (kAlongRow) {
+        cc += step;
+        cc = cc < 0 ? cc + cols_ : (cc >= cols_ ? cc - cols_ : cc);  // 360 deg wrap
+      } else {
+        rr += step;
+        if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
+      }
       const float rq = image.range(rr, cc);
       if (rq <= 0.0f) continue;  // empty pixel
       const Eigen::Vector3f& q = image.point(rr, cc);
@@ -98,19 +103,16 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
       side.range = rq;
     }
     // One-sided differences at the image border or next to a discontinuity use the centre.
+    if (!sides[0].point && !sides[1].point) continue;
     const Eigen::Vector3f& a = sides[0].point ? *sides[0].point : p;
     const Eigen::Vector3f& b = sides[1].point ? *sides[1].point : p;
-    if (!sides[0].point && !sides[1].point) continue;
     tangent = b - a;
-    if (sides[0].point && sides[1].point &&
-        tangent->squaredNorm() >= 4.0f * min_baseline_ * min_baseline_) {
-      break;
-    }
+    if (sides[0].point && sides[1].point && tangent->squaredNorm() >= baseline_sq) break;
   }
   return tangent;
 }
 
-int NormalMap::Stride(float range, float pixel_angle) const {
+inline int NormalMap::Stride(float range, float pixel_angle) const {
   if (!(pixel_angle > 0.0f)) return 1;
   const float pixels_to_baseline = min_baseline_ / std::max(range * pixel_angle, 1e-6f);
   return std::clamp(static_cast<int>(pixels_to_baseline / 2.0f), 1, std::max(1, max_stencil_ / 2));
@@ -119,9 +121,9 @@ int NormalMap::Stride(float range, float pixel_angle) const {
 void NormalMap::ComputeRow(const RangeImage& image, int r) {
   for (int c = 0; c < cols_; ++c) {
     if (image.empty(r, c)) continue;
-    const std::optional<Eigen::Vector3f> t_u = Tangent(image, r, c, 0, 1);
+    const std::optional<Eigen::Vector3f> t_u = Tangent<true>(image, r, c);
     if (!t_u) continue;
-    const std::optional<Eigen::Vector3f> t_v = Tangent(image, r, c, 1, 0);
+    const std::optional<Eigen::Vector3f> t_v = Tangent<false>(image, r, c);
     if (!t_v) continue;
     // Paper eq. (normal vector).
     Eigen::Vector3f n = t_u->cross(*t_v);

@@ -34,8 +34,9 @@ class NormalMap {
   void ComputeRow(const RangeImage& image, int r);
   // Single precision: centimetre geometry within 100 m loses nothing, and it halves the
   // memory traffic of the stencil walk that dominates this stage.
-  std::optional<Eigen::Vector3f> Tangent(const RangeImage& image, int r, int c, int dr,
-                                         int dc) const;
+  // kAlongRow: t_u (columns, wrapping around), else t_v (rows, clipped at the image edges).
+  template <bool kAlongRow>
+  std::optional<Eigen::Vector3f> Tangent(const RangeImage& image, int r, int c) const;
   int Stride(float range, float pixel_angle) const;
   bool Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q, float rq) const;
 
