@@ -32,15 +32,20 @@ Classifier::Classifier(const ClassifierConfig& config)
 // all pairs is n^2 - |sum|^2. So: an upper bound of the mean angle from the root-mean-square
 // chord below the threshold -> not an edge (flat windows, most of a scan); mean chord above
 // it -> an edge (clear corners); only the windows in between pay for the acos of every pair.
-bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const {
-  if (count < 2) return false;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int i = 0; i < count; ++i) sum += normals[i].cast<double>();
+bool Classifier::FlatByChordBound(int count, const Eigen::Vector3d& sum) const {
+  if (count < 2) return true;
   const double pairs = 0.5 * count * (count - 1);
   const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
   // (pi/2) sqrt(mean_chord2) <= threshold, squared: no square root on most of a scan's windows.
   constexpr double kHalfPi2 = 0.25 * std::numbers::pi * std::numbers::pi;
-  if (kHalfPi2 * mean_chord2 <= edge_angle_rad_ * edge_angle_rad_) return false;
+  return kHalfPi2 * mean_chord2 <= edge_angle_rad_ * edge_angle_rad_;
+}
+
+bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
+                                          const Eigen::Vector3d& sum) const {
+  if (FlatByChordBound(count, sum)) return false;
+  const double pairs = 0.5 * count * (count - 1);
+  const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
 
   // Tighter: the angle 2 asin(c / 2) is convex in the chord c with value 0 at 0, so every
   // pair's angle is at most c times the angle/chord ratio of the widest pair. Noisy but flat
@@ -86,24 +91,43 @@ PointClass Classifier::Vote(const Eigen::Vector3f& n) const {
   return PointClass::Unknown;
 }
 
-PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
-                                      bool centre_valid) const {
-  std::array<PointClass, 9> votes{};
-  const int n = std::min(count, 9);
-  for (int i = 0; i < n; ++i) votes[static_cast<std::size_t>(i)] = Vote(normals[i]);
-  return Decide(normals, votes.data(), n, centre_valid);
+void Classifier::WindowSummary::Add(const Eigen::Vector3f& normal, PointClass vote) {
+  ++count;
+  sum += normal.cast<double>();
+  ++votes[Index(vote)];
 }
 
-PointClass Classifier::Decide(const Eigen::Vector3f* normals, const PointClass* votes, int count,
-                              bool centre_valid) const {
+Classifier::WindowSummary& Classifier::WindowSummary::operator+=(const WindowSummary& other) {
+  count += other.count;
+  sum += other.sum;
+  for (std::size_t i = 0; i < votes.size(); ++i) votes[i] += other.votes[i];
+  return *this;
+}
+
+PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
+                                      bool centre_valid) const {
+  const int n = std::min(count, 9);
+  WindowSummary window;
+  for (int i = 0; i < n; ++i) window.Add(normals[i], Vote(normals[i]));
+  return Decide(window, centre_valid, [&](Eigen::Vector3f* out) {
+    std::copy(normals, normals + n, out);
+    return n;
+  });
+}
+
+template <typename Gather>
+PointClass Classifier::Decide(const WindowSummary& window, bool centre_valid,
+                              Gather gather) const {
+  const int count = window.count;
   if (count < config_.min_valid_normals || count == 0) return PointClass::Unknown;
-  if (MeanPairwiseAngleExceeds(normals, count)) return PointClass::Edge;
+  if (!FlatByChordBound(count, window.sum)) {
+    Eigen::Vector3f normals[9];
+    if (MeanPairwiseAngleExceeds(normals, gather(normals), window.sum)) return PointClass::Edge;
+  }
   if (config_.require_centre_normal && !centre_valid) return PointClass::Unknown;
-  ClassCounts tally{};
-  for (int i = 0; i < count; ++i) ++tally[Index(votes[i])];
   const double needed = config_.majority * count - kMajorityEpsilon;
   for (const PointClass c : {PointClass::Ground, PointClass::Roof, PointClass::Wall}) {
-    if (tally[Index(c)] >= needed) return c;
+    if (window.votes[Index(c)] >= needed) return c;
   }
   return PointClass::Unknown;
 }
@@ -130,25 +154,37 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
 
   std::vector<PointClass> labels(normals.size(), PointClass::Unknown);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& rr) {
-    Eigen::Vector3f window[9];
-    PointClass votes[9];
+    std::vector<WindowSummary> columns(static_cast<std::size_t>(cols));
     for (int r = rr.begin(); r < rr.end(); ++r) {
       const int first_row = std::max(r - 1, 0), last_row = std::min(r + 1, rows - 1);
+      // Per column, the window's rows; a window is then three neighbouring columns.
+      for (int c = 0; c < cols; ++c) {
+        WindowSummary& column = columns[static_cast<std::size_t>(c)];
+        column = WindowSummary{};
+        for (int wr = first_row; wr <= last_row; ++wr) {
+          const std::size_t pixel = static_cast<std::size_t>(wr) * cols + c;
+          if (valid[pixel]) column.Add(aligned[pixel], pixel_votes[pixel]);
+        }
+      }
       for (int c = 0; c < cols; ++c) {
         // The 3x3 window, rows top to bottom, columns left to right, wrapping around 360 deg.
         const int window_cols[3] = {c == 0 ? cols - 1 : c - 1, c, c == cols - 1 ? 0 : c + 1};
-        int count = 0;
-        for (int wr = first_row; wr <= last_row; ++wr) {
-          const std::size_t row_start = static_cast<std::size_t>(wr) * cols;
-          for (const int wc : window_cols) {
-            const std::size_t pixel = row_start + static_cast<std::size_t>(wc);
-            if (!valid[pixel]) continue;
-            window[count] = aligned[pixel];
-            votes[count++] = pixel_votes[pixel];
+        WindowSummary window = columns[static_cast<std::size_t>(window_cols[0])];
+        window += columns[static_cast<std::size_t>(window_cols[1])];
+        window += columns[static_cast<std::size_t>(window_cols[2])];
+        const auto gather = [&](Eigen::Vector3f* out) {
+          int count = 0;
+          for (int wr = first_row; wr <= last_row; ++wr) {
+            const std::size_t row_start = static_cast<std::size_t>(wr) * cols;
+            for (const int wc : window_cols) {
+              const std::size_t pixel = row_start + static_cast<std::size_t>(wc);
+              if (valid[pixel]) out[count++] = aligned[pixel];
+            }
           }
-        }
+          return count;
+        };
         const std::size_t centre = static_cast<std::size_t>(r) * cols + c;
-        labels[centre] = Decide(window, votes, count, valid[centre] != 0);
+        labels[centre] = Decide(window, valid[centre] != 0, gather);
       }
     }
   });

@@ -35,10 +35,25 @@ class Classifier {
   PointClass ClassifyWindow(const Eigen::Vector3f* normals, int count, bool centre_valid) const;
 
  private:
+  // What rules 1 and 3-5 need of a window, and rule 2 on most windows: the count of valid
+  // normals, their sum and their votes. Classify() adds these up from per-column sums; the
+  // normals themselves are gathered only where the cheap edge bound cannot decide.
+  struct WindowSummary {
+    int count = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    ClassCounts votes{};
+    void Add(const Eigen::Vector3f& normal, PointClass vote);
+    WindowSummary& operator+=(const WindowSummary& other);
+  };
+
   PointClass Vote(const Eigen::Vector3f& n) const;
-  PointClass Decide(const Eigen::Vector3f* normals, const PointClass* votes, int count,
-                    bool centre_valid) const;
-  bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count) const;
+  // gather(Eigen::Vector3f out[9]) -> count writes the window's normals in row-major order.
+  template <typename Gather>
+  PointClass Decide(const WindowSummary& window, bool centre_valid, Gather gather) const;
+  // Rule 2's first bound alone: true when the mean pairwise angle is surely below the edge angle.
+  bool FlatByChordBound(int count, const Eigen::Vector3d& sum) const;
+  bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
+                                const Eigen::Vector3d& sum) const;
 
   ClassifierConfig config_;
   double edge_angle_rad_;
