@@ -22,6 +22,12 @@ float FastAcos(float x) {
   return x < 0.0f ? std::numbers::pi_v<float> - f : f;
 }
 
+// Mean squared chord over all pairs of `count` unit vectors with the given sum.
+double MeanSquaredChord(int count, const Eigen::Vector3d& sum) {
+  const double pairs = 0.5 * count * (count - 1);
+  return std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
+}
+
 }  // namespace
 
 Classifier::Classifier(const ClassifierConfig& config)
@@ -34,18 +40,15 @@ Classifier::Classifier(const ClassifierConfig& config)
 // it -> an edge (clear corners); only the windows in between pay for the acos of every pair.
 bool Classifier::FlatByChordBound(int count, const Eigen::Vector3d& sum) const {
   if (count < 2) return true;
-  const double pairs = 0.5 * count * (count - 1);
-  const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
   // (pi/2) sqrt(mean_chord2) <= threshold, squared: no square root on most of a scan's windows.
   constexpr double kHalfPi2 = 0.25 * std::numbers::pi * std::numbers::pi;
-  return kHalfPi2 * mean_chord2 <= edge_angle_rad_ * edge_angle_rad_;
+  return kHalfPi2 * MeanSquaredChord(count, sum) <= edge_angle_rad_ * edge_angle_rad_;
 }
 
 bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
                                           const Eigen::Vector3d& sum) const {
-  if (FlatByChordBound(count, sum)) return false;
   const double pairs = 0.5 * count * (count - 1);
-  const double mean_chord2 = std::max(0.0, double(count) * count - sum.squaredNorm()) / pairs;
+  const double mean_chord2 = MeanSquaredChord(count, sum);
 
   // Tighter: the angle 2 asin(c / 2) is convex in the chord c with value 0 at 0, so every
   // pair's angle is at most c times the angle/chord ratio of the widest pair. Noisy but flat

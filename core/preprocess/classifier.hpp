@@ -52,6 +52,7 @@ class Classifier {
   PointClass Decide(const WindowSummary& window, bool centre_valid, Gather gather) const;
   // Rule 2's first bound alone: true when the mean pairwise angle is surely below the edge angle.
   bool FlatByChordBound(int count, const Eigen::Vector3d& sum) const;
+  // Rule 2 for a window FlatByChordBound could not settle (count >= 2).
   bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
                                 const Eigen::Vector3d& sum) const;
 
