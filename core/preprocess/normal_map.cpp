@@ -78,7 +78,10 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
         cc = cc < 0 ? cc + cols_ : (cc >= cols_ ? cc - cols_ : cc);  // 360 deg wrap
       } else {
         rr += step;
-        if (rr < 0 || rr >= rows_) continue;  // image top/bottom: keep the nearest row found
+        if (rr < 0 || rr >= rows_) {  // image top/bottom: keep the nearest row found
+          side.blocked = true;
+          continue;
+        }
       }
       const float rq = image.range(rr, cc);
       if (rq <= 0.0f) continue;  // empty pixel
@@ -107,6 +110,8 @@ std::optional<Eigen::Vector3f> NormalMap::Tangent(const RangeImage& image, int r
     const Eigen::Vector3f& a = sides[0].point ? *sides[0].point : p;
     const Eigen::Vector3f& b = sides[1].point ? *sides[1].point : p;
     tangent = b - a;
+    // Neither side can grow any more: a wider stencil would only repeat this tangent.
+    if (sides[0].blocked && sides[1].blocked) break;
     if (sides[0].point && sides[1].point && tangent->squaredNorm() >= baseline_sq) break;
   }
   return tangent;

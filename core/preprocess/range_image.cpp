@@ -2,8 +2,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -13,7 +16,8 @@ namespace dammloam {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr int kMaxRows = 1024;  // no spinning LiDAR has more beams
+constexpr int kMaxRows = 1024;
+constexpr std::uint64_t kNoOwner = ~std::uint64_t{0};  // no spinning LiDAR has more beams
 constexpr double kAngleTableStep = 0.005 * std::numbers::pi / 180.0;  // 0.005 deg bins
 
 int PositiveOr(int value, int fallback) { return value > 0 ? value : fallback; }
@@ -66,12 +70,17 @@ int RangeImage::ColumnOf(const Eigen::Vector3d& p) const {
 
 void RangeImage::ComputeRowsFromRings(const std::vector<std::int16_t>& rings) {
   // A corrupt ring must not blow the image up: beyond kMaxRows the point is not projected.
-  int max_ring = -1;
-  for (std::size_t i = 0; i < rings.size(); ++i) {
-    const bool usable = point_row_[i] == 0 && rings[i] >= 0 && rings[i] < kMaxRows;
-    point_row_[i] = usable ? rings[i] : -1;
-    if (usable) max_ring = std::max<int>(max_ring, rings[i]);
-  }
+  const int max_ring = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, rings.size(), 4096), -1,
+      [&](const tbb::blocked_range<std::size_t>& range, int highest) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          const bool usable = point_row_[i] == 0 && rings[i] >= 0 && rings[i] < kMaxRows;
+          point_row_[i] = usable ? rings[i] : -1;
+          if (usable) highest = std::max<int>(highest, rings[i]);
+        }
+        return highest;
+      },
+      [](int a, int b) { return std::max(a, b); });
   rows_ = std::max(configured_rows_, max_ring + 1);
 }
 
@@ -161,27 +170,33 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   pixels_.assign(pixels, Pixel{});
   pixel_of_.assign(n, -1);
 
-  // Pixels of all points in parallel (the atan2 is most of the cost), then the nearest-wins
-  // pass in index order, which is what makes ties deterministic.
+  // Nearest wins, decided in parallel: a pixel keeps the minimum of (range, index) packed into
+  // one word (a non-negative float's bits order like the float), so the winner does not depend
+  // on which thread got there first, and equal ranges go to the lower index.
+  std::vector<std::uint64_t> owner(pixels, kNoOwner);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      if (point_row_[i] >= 0) pixel_of_[i] = Flat(point_row_[i], ColumnOf(points[i]));
+      if (point_row_[i] < 0) continue;
+      const int pixel = Flat(point_row_[i], ColumnOf(points[i]));
+      pixel_of_[i] = pixel;
+      const std::uint64_t key =
+          (std::uint64_t{std::bit_cast<std::uint32_t>(static_cast<float>(points[i].norm()))}
+           << 32) |
+          static_cast<std::uint32_t>(i);
+      std::atomic_ref<std::uint64_t> slot(owner[static_cast<std::size_t>(pixel)]);
+      std::uint64_t current = slot.load(std::memory_order_relaxed);
+      while (key < current &&
+             !slot.compare_exchange_weak(current, key, std::memory_order_relaxed)) {
+      }
     }
   });
-  for (std::size_t i = 0; i < n; ++i) {
-    const int pixel = pixel_of_[i];
-    if (pixel < 0) continue;
-    // Strictly nearer replaces: on a tie the earlier (lower) index keeps the pixel.
-    if (index_[pixel] < 0 ||
-        points[i].squaredNorm() < points[static_cast<std::size_t>(index_[pixel])].squaredNorm()) {
-      index_[pixel] = static_cast<int>(i);
-    }
-  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096), [&](const auto& range) {
     for (std::size_t pixel = range.begin(); pixel < range.end(); ++pixel) {
-      if (index_[pixel] < 0) continue;
-      const Eigen::Vector3d& p = points[static_cast<std::size_t>(index_[pixel])];
-      pixels_[pixel] = {p.cast<float>(), static_cast<float>(p.norm())};
+      if (owner[pixel] == kNoOwner) continue;
+      const auto winner = static_cast<std::uint32_t>(owner[pixel] & 0xffffffffu);
+      index_[pixel] = static_cast<int>(winner);
+      pixels_[pixel] = {points[winner].cast<float>(),
+                        std::bit_cast<float>(static_cast<std::uint32_t>(owner[pixel] >> 32))};
     }
   });
 }

@@ -19,7 +19,8 @@ namespace dammloam {
 // Column: azimuth a = atan2(y, x) in (-pi, pi], c = floor((a + pi) / (2 pi) * cols) mod cols,
 //   i.e. column 0 looks backwards (-x) and columns grow counter-clockwise seen from above
 //   (-x, -y, +x, +y). Columns wrap around: column cols-1 neighbours column 0.
-// Several points in one pixel: the nearest wins; equal ranges: the lower point index wins.
+// Several points in one pixel: the nearest wins; equal ranges (in single precision): the lower
+// point index wins.
 class RangeImage {
  public:
   RangeImage(const RangeImageConfig& config, const SensorModel& sensor);
