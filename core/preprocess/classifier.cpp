@@ -94,19 +94,6 @@ PointClass Classifier::Vote(const Eigen::Vector3f& n) const {
   return PointClass::Unknown;
 }
 
-void Classifier::WindowSummary::Add(const Eigen::Vector3f& normal, PointClass vote) {
-  ++count;
-  sum += normal.cast<double>();
-  ++votes[Index(vote)];
-}
-
-Classifier::WindowSummary& Classifier::WindowSummary::operator+=(const WindowSummary& other) {
-  count += other.count;
-  sum += other.sum;
-  for (std::size_t i = 0; i < votes.size(); ++i) votes[i] += other.votes[i];
-  return *this;
-}
-
 PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
                                       bool centre_valid) const {
   const int n = std::min(count, 9);
@@ -121,7 +108,7 @@ PointClass Classifier::ClassifyWindow(const Eigen::Vector3f* normals, int count,
 template <typename Gather>
 PointClass Classifier::Decide(const WindowSummary& window, bool centre_valid,
                               Gather gather) const {
-  const int count = window.count;
+  const int count = window.count();
   if (count < config_.min_valid_normals || count == 0) return PointClass::Unknown;
   if (!FlatByChordBound(count, window.sum)) {
     Eigen::Vector3f normals[9];
@@ -130,7 +117,7 @@ PointClass Classifier::Decide(const WindowSummary& window, bool centre_valid,
   if (config_.require_centre_normal && !centre_valid) return PointClass::Unknown;
   const double needed = config_.majority * count - kMajorityEpsilon;
   for (const PointClass c : {PointClass::Ground, PointClass::Roof, PointClass::Wall}) {
-    if (window.votes[Index(c)] >= needed) return c;
+    if (window.votes(c) >= needed) return c;
   }
   return PointClass::Unknown;
 }

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "core/geometry/point_class.hpp"
@@ -38,12 +39,23 @@ class Classifier {
   // What rules 1 and 3-5 need of a window, and rule 2 on most windows: the count of valid
   // normals, their sum and their votes. Classify() adds these up from per-column sums; the
   // normals themselves are gathered only where the cheap edge bound cannot decide.
+  // A window holds at most nine normals, so its count and its votes per class fit in one byte
+  // each and add up as one integer (byte c: votes for class c, top byte: count).
   struct WindowSummary {
-    int count = 0;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    ClassCounts votes{};
-    void Add(const Eigen::Vector3f& normal, PointClass vote);
-    WindowSummary& operator+=(const WindowSummary& other);
+    std::uint64_t tallies = 0;
+    int count() const { return static_cast<int>(tallies >> kCountShift); }
+    int votes(PointClass c) const { return static_cast<int>((tallies >> (8 * Index(c))) & 0xffu); }
+    void Add(const Eigen::Vector3f& normal, PointClass vote) {
+      sum += normal.cast<double>();
+      tallies += (std::uint64_t{1} << kCountShift) | (std::uint64_t{1} << (8 * Index(vote)));
+    }
+    WindowSummary& operator+=(const WindowSummary& other) {
+      sum += other.sum;
+      tallies += other.tallies;
+      return *this;
+    }
+    static constexpr int kCountShift = 56;
   };
 
   PointClass Vote(const Eigen::Vector3f& n) const;
