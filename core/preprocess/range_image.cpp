@@ -16,8 +16,8 @@ namespace dammloam {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr int kMaxRows = 1024;
-constexpr std::uint64_t kNoOwner = ~std::uint64_t{0};  // no spinning LiDAR has more beams
+constexpr int kMaxRows = 1024;  // no spinning LiDAR has more beams
+constexpr std::uint64_t kNoOwner = ~std::uint64_t{0};  // a pixel no point fell into
 constexpr double kAngleTableStep = 0.005 * std::numbers::pi / 180.0;  // 0.005 deg bins
 
 int PositiveOr(int value, int fallback) { return value > 0 ? value : fallback; }
