@@ -26,6 +26,9 @@ nlohmann::json ToJson(const RunSummary& s) {
           {"degenerate_share", s.degenerate_share},
           {"ms",
            {{"features", ToJson(s.features_ms)},
+            {"projection", ToJson(s.projection_ms)},
+            {"normals", ToJson(s.normals_ms)},
+            {"classification", ToJson(s.classification_ms)},
             {"deskew", ToJson(s.deskew_ms)},
             {"downsample", ToJson(s.downsample_ms)},
             {"registration", ToJson(s.registration_ms)},
@@ -34,9 +37,10 @@ nlohmann::json ToJson(const RunSummary& s) {
 }
 
 void PrintRow(const RunSummary& s, const RunSummary& baseline) {
-  std::printf("  %-22s APE %7.3f  RPE %6.3f  | ms med/p95: feat %5.1f/%5.1f  reg %5.1f/%5.1f  "
-              "map %4.1f  total %5.1f/%5.1f (x%.2f of p2p)  it %.0f  degen %3.0f%%\n",
+  std::printf("  %-22s APE %7.3f  RPE %6.3f  | ms med/p95: feat %5.1f/%5.1f (%.1f+%.1f+%.1f)  "
+              "reg %5.1f/%5.1f  map %4.1f  total %5.1f/%5.1f (x%.2f of p2p)  it %.0f  degen %3.0f%%\n",
               s.mode.c_str(), s.ape_rmse, s.rpe_rmse, s.features_ms.median, s.features_ms.p95,
+              s.projection_ms.median, s.normals_ms.median, s.classification_ms.median,
               s.registration_ms.median, s.registration_ms.p95, s.map_update_ms.median,
               s.total_ms.median, s.total_ms.p95,
               baseline.total_ms.median > 0 ? s.total_ms.median / baseline.total_ms.median : 0.0,

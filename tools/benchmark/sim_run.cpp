@@ -40,6 +40,7 @@ RunSummary RunPipeline(const SimSequence& sequence, const OdometryConfig& config
   OdometryPipeline pipeline(config, sequence.model);
   RunSummary summary;
   summary.mode = std::string(Name(config.registration.mode));
+  std::vector<double> projection, normals, classification;
   std::vector<double> features, deskew, downsample, registration, map_update, total, iterations;
   std::size_t degenerate = 0;
   for (const Scan& scan : sequence.scans) {
@@ -50,6 +51,9 @@ RunSummary RunPipeline(const SimSequence& sequence, const OdometryConfig& config
     summary.estimate.push_back({r.stamp, r.T_world_sensor});
     if (Registered(r.status)) ++summary.registered;
     const StageTimings& t = r.timings;
+    projection.push_back(t.projection_ms);
+    normals.push_back(t.normals_ms);
+    classification.push_back(t.classification_ms);
     features.push_back(t.projection_ms + t.normals_ms + t.classification_ms);
     deskew.push_back(t.deskew_ms);
     downsample.push_back(t.downsample_ms);
@@ -61,6 +65,9 @@ RunSummary RunPipeline(const SimSequence& sequence, const OdometryConfig& config
     if (r.iterations > 0 && (d[0] || d[1] || d[2])) ++degenerate;
     summary.results.push_back(std::move(r));
   }
+  summary.projection_ms = ComputePercentiles(projection);
+  summary.normals_ms = ComputePercentiles(normals);
+  summary.classification_ms = ComputePercentiles(classification);
   summary.features_ms = ComputePercentiles(features);
   summary.deskew_ms = ComputePercentiles(deskew);
   summary.downsample_ms = ComputePercentiles(downsample);

@@ -35,6 +35,7 @@ struct RunSummary {
   double rpe_rmse = 0.0;  // metres, frame to frame
   std::size_t registered = 0;
   Percentiles features_ms, deskew_ms, downsample_ms, registration_ms, map_update_ms, total_ms;
+  Percentiles projection_ms, normals_ms, classification_ms;  // the feature stage's parts
   double median_iterations = 0.0;
   double degenerate_share = 0.0;  // scans with at least one degenerate direction
   std::vector<OdometryResult> results;  // without the per-point vectors
