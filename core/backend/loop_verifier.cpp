@@ -121,7 +121,8 @@ void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
     event.accepted = true;
     event.reason = event.observed_translation_directions == 3
                        ? "accepted"
-                       : "accepted: constrains 2 of 3 translation directions";
+                       : Format("accepted: constrains %.0f of %.0f translation directions",
+                                event.observed_translation_directions, 3);
   }
 }
 

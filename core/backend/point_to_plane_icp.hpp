@@ -50,9 +50,10 @@ struct IcpResult {
   // translation direction is unconstrained (a featureless corridor), at most 1/3.
   double translation_observability = 0.0;
   // Gauss-Newton information of the final alignment at unit noise: sum w J J^T over the inlier
-  // point-to-plane pairs (w: Cauchy weight of the residual, scale information_kernel), J = [n; p x n] for a left perturbation of T_target_source, tangent
-  // [t; r]. Divide by the noise variance for a Fisher information; near singular along the
-  // directions the scene leaves free.
+  // point-to-plane pairs (w: Cauchy weight of the residual, scale information_kernel),
+  // J = [n; p x n] for a left perturbation of T_target_source, tangent [t; r]. Divide by the
+  // noise variance for a Fisher information; near singular along the directions the scene
+  // leaves free.
   Matrix6d hessian = Matrix6d::Zero();
   int iterations = 0;
   bool converged = false;

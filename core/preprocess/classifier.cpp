@@ -38,17 +38,15 @@ Classifier::Classifier(const ClassifierConfig& config)
 // all pairs is n^2 - |sum|^2. So: an upper bound of the mean angle from the root-mean-square
 // chord below the threshold -> not an edge (flat windows, most of a scan); mean chord above
 // it -> an edge (clear corners); only the windows in between pay for the acos of every pair.
-bool Classifier::FlatByChordBound(int count, const Eigen::Vector3d& sum) const {
-  if (count < 2) return true;
+bool Classifier::FlatByChordBound(double mean_chord2) const {
   // (pi/2) sqrt(mean_chord2) <= threshold, squared: no square root on most of a scan's windows.
   constexpr double kHalfPi2 = 0.25 * std::numbers::pi * std::numbers::pi;
-  return kHalfPi2 * MeanSquaredChord(count, sum) <= edge_angle_rad_ * edge_angle_rad_;
+  return kHalfPi2 * mean_chord2 <= edge_angle_rad_ * edge_angle_rad_;
 }
 
 bool Classifier::MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
-                                          const Eigen::Vector3d& sum) const {
+                                          double mean_chord2) const {
   const double pairs = 0.5 * count * (count - 1);
-  const double mean_chord2 = MeanSquaredChord(count, sum);
 
   // Tighter: the angle 2 asin(c / 2) is convex in the chord c with value 0 at 0, so every
   // pair's angle is at most c times the angle/chord ratio of the widest pair. Noisy but flat
@@ -110,9 +108,12 @@ PointClass Classifier::Decide(const WindowSummary& window, bool centre_valid,
                               Gather gather) const {
   const int count = window.count();
   if (count < config_.min_valid_normals || count == 0) return PointClass::Unknown;
-  if (!FlatByChordBound(count, window.sum)) {
-    Eigen::Vector3f normals[9];
-    if (MeanPairwiseAngleExceeds(normals, gather(normals), window.sum)) return PointClass::Edge;
+  if (count >= 2) {
+    const double mean_chord2 = MeanSquaredChord(count, window.sum);
+    if (!FlatByChordBound(mean_chord2)) {
+      Eigen::Vector3f normals[9];
+      if (MeanPairwiseAngleExceeds(normals, gather(normals), mean_chord2)) return PointClass::Edge;
+    }
   }
   if (config_.require_centre_normal && !centre_valid) return PointClass::Unknown;
   const double needed = config_.majority * count - kMajorityEpsilon;

@@ -62,11 +62,12 @@ class Classifier {
   // gather(Eigen::Vector3f out[9]) -> count writes the window's normals in row-major order.
   template <typename Gather>
   PointClass Decide(const WindowSummary& window, bool centre_valid, Gather gather) const;
-  // Rule 2's first bound alone: true when the mean pairwise angle is surely below the edge angle.
-  bool FlatByChordBound(int count, const Eigen::Vector3d& sum) const;
+  // Rule 2's first bound alone, from the window's mean squared chord between its normals:
+  // true when the mean pairwise angle is surely below the edge angle.
+  bool FlatByChordBound(double mean_chord2) const;
   // Rule 2 for a window FlatByChordBound could not settle (count >= 2).
   bool MeanPairwiseAngleExceeds(const Eigen::Vector3f* normals, int count,
-                                const Eigen::Vector3d& sum) const;
+                                double mean_chord2) const;
 
   ClassifierConfig config_;
   double edge_angle_rad_;
