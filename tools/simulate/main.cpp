@@ -1,4 +1,5 @@
 // dammloam-simulate: writes a simulated sequence directory with exact ground truth.
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "tools/common/sequence_io.hpp"
+#include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace {
@@ -19,8 +21,10 @@ namespace {
 using namespace dammloam;
 
 struct Args {
-  std::string scene, sensor = "os1-64", out;
-  int scans = 0;
+  std::string scene, preset, sensor = "os1-64", out;
+  std::optional<std::string> motion, range_model;
+  std::optional<int> scans;
+  std::optional<double> noise;
   sim::SimOptions sim;
   std::optional<int> rings, columns;
   std::optional<double> vfov_up, vfov_down, min_range, max_range;
@@ -66,13 +70,41 @@ double Median(std::vector<double> v) {
 int Run(const Args& a) {
   const sim::SensorSpec spec = MakeSpec(a);
   sim::SimOptions options = a.sim;
-  options.num_scans = a.scans;
+  sim::SceneKind scene = sim::SceneKind::Corridor;
+  int scans = 0;
+  if (!a.preset.empty()) {
+    const sim::Preset preset = *sim::FindPreset(a.preset);  // name already checked by CLI11
+    const sim::SimOptions planned = preset.Options(options.seed);
+    scene = preset.scene;
+    options.motion = planned.motion;
+    options.num_scans = planned.num_scans;
+    options.noise_sigma = planned.noise_sigma;
+    options.full_range_reflectivity = planned.full_range_reflectivity;
+    scans = a.scans.value_or(preset.scans);
+  } else {
+    if (a.scene.empty()) throw std::invalid_argument("--scene or --preset is required");
+    if (!a.scans) throw std::invalid_argument("--scans is required with --scene");
+    scene = *sim::ParseSceneKind(a.scene);
+    options.motion = *sim::ParseMotionKind(a.motion.value_or("constant"));
+    options.num_scans = *a.scans;
+    options.noise_sigma = sim::DefaultNoise(options.motion);
+    options.full_range_reflectivity = sim::DefaultFullRangeReflectivity(options.motion);
+    scans = *a.scans;
+  }
+  if (a.noise) options.noise_sigma = *a.noise;
+  if (a.range_model) {
+    options.full_range_reflectivity =
+        *a.range_model == "realistic" ? sim::kRealisticFullRangeReflectivity : 0.0;
+  }
   std::unique_ptr<tbb::global_control> limit;
   if (options.threads > 1) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<std::size_t>(options.threads));
   }
-  const sim::Simulator simulator(*sim::ParseSceneKind(a.scene), spec, options);
+  const auto setup_start = std::chrono::steady_clock::now();
+  const sim::Simulator simulator(scene, spec, options);
+  const double setup_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setup_start).count();
 
   io::SequenceWriter writer(a.out, io::SequenceMeta{spec.name, simulator.sensor_model(),
                                                     io::PointLayout::kXYZITR},
@@ -80,7 +112,8 @@ int Run(const Args& a) {
   std::vector<io::StampedPose> ground_truth;
   std::vector<double> sim_ms;
   std::vector<double> points;
-  for (int i = 0; i < a.scans; ++i) {
+  const auto run_start = std::chrono::steady_clock::now();
+  for (int i = 0; i < scans; ++i) {
     const auto start = std::chrono::steady_clock::now();
     const Scan scan = simulator.SimulateScan(i);
     sim_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -90,14 +123,38 @@ int Run(const Args& a) {
   }
   writer.WriteGroundTruth(ground_truth);
 
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+
+  // Speed over the run from the ground truth, scan to scan (what a motion model has to follow).
+  std::vector<double> speeds;
+  double path_length = 0.0;
+  for (std::size_t k = 1; k < ground_truth.size(); ++k) {
+    const double d = (ground_truth[k].T.translation() - ground_truth[k - 1].T.translation()).norm();
+    path_length += d;
+    speeds.push_back(d / (ground_truth[k].t - ground_truth[k - 1].t));
+  }
+  const auto [slowest, fastest] = speeds.empty() ? std::pair{0.0, 0.0}
+                                                 : std::pair{*std::min_element(speeds.begin(), speeds.end()),
+                                                             *std::max_element(speeds.begin(), speeds.end())};
   const Eigen::Vector3d travelled = ground_truth.back().T.translation() - ground_truth.front().T.translation();
+  const std::string speed =
+      options.motion != sim::MotionKind::Constant
+          ? std::string(sim::MotionName(options.motion))
+          : fmt::format("{}", options.speed > 0 ? options.speed : sim::DefaultSpeed(simulator.kind()));
   spdlog::info(
-      "simulate: scene={} sensor={} ({}x{}) scans={} seed={} noise={} m speed={} m/s threads={} "
-      "points/scan median={:.0f} sim median {:.2f} ms/scan, start-end distance {:.2f} m -> {}",
-      a.scene, spec.name, spec.rings(), spec.columns, a.scans, options.seed, options.noise_sigma,
-      options.speed > 0 ? options.speed : sim::DefaultSpeed(simulator.kind()),
-      options.threads == 0 ? std::string("auto") : std::to_string(options.threads), Median(points),
-      Median(sim_ms), travelled.norm(), a.out);
+      "simulate: scene={}{} sensor={} ({}x{}) scans={} seed={} noise={} m speed={} m/s threads={} "
+      "range={} points/scan median={:.0f} sim median {:.2f} ms/scan, start-end distance {:.2f} m -> {}",
+      sim::SceneName(scene), a.preset.empty() ? "" : " preset=" + a.preset, spec.name, spec.rings(),
+      spec.columns, scans, options.seed, options.noise_sigma, speed,
+      options.threads == 0 ? std::string("auto") : std::to_string(options.threads),
+      options.full_range_reflectivity > 0 ? "realistic" : "ideal", Median(points), Median(sim_ms),
+      travelled.norm(), a.out);
+  spdlog::info(
+      "simulate: path {:.1f} m in {:.1f} s, speed min/median/max {:.2f}/{:.2f}/{:.2f} m/s; setup "
+      "{:.0f} ms, {} scans simulated and written in {:.1f} s",
+      path_length, ground_truth.back().t - ground_truth.front().t, slowest, Median(speeds), fastest,
+      setup_ms, scans, total_s);
   return 0;
 }
 
@@ -106,18 +163,42 @@ int Run(const Args& a) {
 int main(int argc, char** argv) {
   CLI::App app{"Simulate a spinning LiDAR in an analytic scene and write a sequence directory"};
   Args a;
-  app.add_option("--scene", a.scene, "Scene")->required()->check(CLI::IsMember(sim::SceneNames()));
+  std::string scenes, motions, presets;
+  for (const auto& n : sim::SceneNames()) scenes += (scenes.empty() ? "" : ", ") + n;
+  for (const auto& n : sim::MotionNames()) motions += (motions.empty() ? "" : ", ") + n;
+  for (const sim::Preset& p : sim::Presets()) {
+    presets += fmt::format("\n  {:<18} {} + {}, {} scans: {}", p.name, sim::SceneName(p.scene),
+                           sim::MotionName(p.motion), p.scans, p.what);
+  }
+  app.footer("Scenes: " + scenes + "\nMotions: " + motions + "\nPresets (--preset NAME):" + presets);
+  auto* scene = app.add_option("--scene", a.scene, "Scene")->check(CLI::IsMember(sim::SceneNames()));
+  auto* motion = app.add_option("--motion", a.motion,
+                                "Carrier: constant (default; speed ramp then constant), handheld, "
+                                "legged, wheeled (seeded by --seed)")
+                     ->check(CLI::IsMember(sim::MotionNames()));
+  app.add_option("--preset", a.preset, "Realistic preset: scene, motion, noise, range model, scans")
+      ->check(CLI::IsMember(sim::PresetNames()))
+      ->excludes(scene)
+      ->excludes(motion);
   app.add_option("--sensor", a.sensor, "Sensor model")->check(CLI::IsMember(sim::SensorNames()))
       ->capture_default_str();
-  app.add_option("--scans", a.scans, "Number of scans")->required()->check(CLI::PositiveNumber);
+  app.add_option("--scans", a.scans, "Number of scans (required with --scene; a preset's default: "
+                                     "its whole walk)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--out", a.out, "Output sequence directory")->required();
   app.add_flag("--overwrite", a.overwrite, "Replace an existing sequence in --out");
-  app.add_option("--seed", a.sim.seed, "Noise seed")->capture_default_str();
-  app.add_option("--noise", a.sim.noise_sigma, "Range noise sigma, metres")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--seed", a.sim.seed, "Seed of the range noise and the motion")->capture_default_str();
+  app.add_option("--noise", a.noise,
+                 "Range noise sigma, metres (default 0.01 for constant motion, 0.015 otherwise)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--range-model", a.range_model,
+                 "ideal: every hit up to max range (default for constant motion); realistic: dark "
+                 "or grazing surfaces fade earlier (default otherwise)")
+      ->check(CLI::IsMember({"ideal", "realistic"}));
   app.add_option("--dropout", a.sim.dropout, "Probability that a return is lost")
       ->check(CLI::Range(0.0, 0.99))->capture_default_str();
-  app.add_option("--speed", a.sim.speed, "Speed in m/s (default: the scene's)")
+  app.add_option("--speed", a.sim.speed,
+                 "Speed in m/s (default: the scene's; other motions: the middle of their range)")
       ->check(CLI::PositiveNumber);
   app.add_option("--t0", a.sim.t0, "Start time of scan 0, seconds")->capture_default_str();
   app.add_option("--threads", a.sim.threads, "Threads (0: all cores, 1: single-threaded)")

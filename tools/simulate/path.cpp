@@ -52,4 +52,11 @@ Path::State Path::At(double s, bool wrap) const {
   return Advance(seg.start, seg.curvature, s - seg.s_start);
 }
 
+double Path::Curvature(double s) const {
+  if (segments_.empty() || s < 0.0 || s > total_length_) return 0.0;
+  const auto it = std::upper_bound(segments_.begin(), segments_.end(), s,
+                                   [](double v, const Segment& seg) { return v < seg.s_start; });
+  return std::prev(it)->curvature;
+}
+
 }  // namespace dammloam::sim

@@ -23,6 +23,8 @@ class Path {
   // Outside [0, length()] the path extends straight along its end headings, unless `wrap`,
   // which repeats a closed path.
   State At(double s, bool wrap = false) const;
+  // Signed curvature (1/radius, > 0 turning left) at arc length s; 0 outside [0, length()].
+  double Curvature(double s) const;
 
  private:
   struct Segment {

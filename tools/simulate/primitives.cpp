@@ -108,6 +108,30 @@ Bounds2d Cylinder::bounds() const {
   return {center.array() - radius, center.array() + radius};
 }
 
+bool CylinderX::Intersect(const Ray& ray, double t_min, Hit& best) const {
+  // |o_yz + t d_yz - c|^2 = r^2; the near root is the outer surface, the far one the inner.
+  const Eigen::Vector2d o(ray.origin.y() - center.x(), ray.origin.z() - center.y());
+  const Eigen::Vector2d d(ray.dir.y(), ray.dir.z());
+  const double a = d.squaredNorm();
+  if (a < 1e-18) return false;  // along the axis
+  const double half_b = o.dot(d);
+  const double c = o.squaredNorm() - radius * radius;
+  const double disc = half_b * half_b - a * c;
+  if (disc < 0.0) return false;
+  const double root = std::sqrt(disc);
+  const double t = inside ? (-half_b + root) / a : (-half_b - root) / a;
+  if (!Accept(t, t_min, best)) return false;
+  const Eigen::Vector3d p = ray.origin + t * ray.dir;
+  if (p.x() < x_min || p.x() > x_max || p.z() < z_min) return false;
+  const Eigen::Vector2d n = (o + t * d) / radius;
+  best = Hit{t, Eigen::Vector3d(0.0, n.x(), n.y()), reflectivity};
+  return true;
+}
+
+Bounds2d CylinderX::bounds() const {
+  return {Eigen::Vector2d(x_min, center.x() - radius), Eigen::Vector2d(x_max, center.x() + radius)};
+}
+
 bool Sphere::Intersect(const Ray& ray, double t_min, Hit& best) const {
   const Eigen::Vector3d o = ray.origin - center;
   const double half_b = o.dot(ray.dir);

@@ -62,6 +62,22 @@ struct Cylinder {
   Bounds2d bounds() const;
 };
 
+// Cylinder lying along x: axis (y, z) = center, x in [x_min, x_max], open ends. `inside`: the
+// inner surface (a tunnel seen from within; only the part with z >= z_min, e.g. above a flat
+// floor), else the outer one (a pipe).
+struct CylinderX {
+  Eigen::Vector2d center;  // (y, z) of the axis
+  double radius = 1.0;
+  double x_min = 0.0;
+  double x_max = 10.0;
+  bool inside = false;
+  double z_min = -1e9;
+  float reflectivity = 0.5f;
+
+  bool Intersect(const Ray& ray, double t_min, Hit& best) const;
+  Bounds2d bounds() const;
+};
+
 struct Sphere {
   Eigen::Vector3d center;
   double radius = 1.0;

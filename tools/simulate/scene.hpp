@@ -8,7 +8,7 @@
 
 namespace dammloam::sim {
 
-using Primitive = std::variant<Rectangle, Box, Cylinder, Sphere>;
+using Primitive = std::variant<Rectangle, Box, Cylinder, Sphere, CylinderX>;
 
 // A static world of analytic primitives with a uniform 2-D grid over x-y, so a beam only tests
 // the primitives in the cells it crosses. Primitives spanning many cells (long walls, floors)

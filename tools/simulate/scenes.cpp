@@ -54,8 +54,9 @@ void AddFloorAndCeiling(Scene& scene, const CorridorShape& c, double extra_width
 }
 
 // One side wall with its door recesses (gap, lintel, jambs, recess back and top).
-void AddSideWall(Scene& scene, const CorridorShape& c, int side, std::vector<double> doors) {
-  const double y = side * 0.5 * c.width, y_back = side * (0.5 * c.width + kDoorDepth);
+void AddSideWall(Scene& scene, const CorridorShape& c, int side, std::vector<double> doors,
+                 double depth = kDoorDepth) {
+  const double y = side * 0.5 * c.width, y_back = side * (0.5 * c.width + depth);
   std::sort(doors.begin(), doors.end());
   double x = c.x0;
   for (const double d : doors) {
@@ -162,6 +163,28 @@ Path RoundedRectangle(double length, double width, double r) {
   return p;
 }
 
+constexpr float kFacade = 0.55f, kTrunk = 0.35f, kCrown = 0.15f, kPole = 0.8f;
+
+// Trees and poles 3-4.5 m beside the road every 5-11 m, on either side (layout from `seed`).
+void AddRoadside(Scene& scene, const Path& road, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (double s = 2.0; s < road.length(); s += 5.0 + 6.0 * uniform(rng)) {
+    const Path::State st = road.At(s);
+    const Eigen::Vector2d left(-std::sin(st.heading), std::cos(st.heading));
+    const double side = uniform(rng) < 0.5 ? 1.0 : -1.0;
+    const Eigen::Vector2d xy = st.position + side * (3.0 + 1.5 * uniform(rng)) * left;
+    if (uniform(rng) < 0.2) {
+      scene.Add(Cylinder{xy, 0.08, -1.0, 5.0, kPole});
+      continue;
+    }
+    const double trunk_r = 0.15 + 0.15 * uniform(rng), trunk_h = 2.2 + 1.3 * uniform(rng);
+    const double crown_r = 1.2 + 1.0 * uniform(rng);
+    scene.Add(Cylinder{xy, trunk_r, -1.0, trunk_h, kTrunk});
+    scene.Add(Sphere{Eigen::Vector3d(xy.x(), xy.y(), trunk_h + 0.8 * crown_r), crown_r, kCrown});
+  }
+}
+
 World Outdoor(double speed) {
   World w;
   constexpr double kLength = 40.0, kWidth = 30.0, kCorner = 6.0;
@@ -173,7 +196,6 @@ World Outdoor(double speed) {
        {0.02, Eigen::Vector2d(2 * kPi / 6.3, 2 * kPi / 9.0), 0.9}},
       0.25f));
 
-  constexpr float kFacade = 0.55f, kTrunk = 0.35f, kCrown = 0.15f, kPole = 0.8f;
   auto building = [&](double x0, double y0, double x1, double y1, double h, double yaw_deg = 0.0) {
     Box b = AxisBox({x0, y0, -1.0}, {x1, y1, h}, kFacade);
     b.rotation = Eigen::AngleAxisd(yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -195,22 +217,7 @@ World Outdoor(double speed) {
   building(-22.0, 2.0, -14.0, 26.0, 9.0);
   // Trees and poles beside the road, irregularly spaced (fixed layout seed).
   const Path road = RoundedRectangle(kLength, kWidth, kCorner);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  for (double s = 2.0; s < road.length(); s += 5.0 + 6.0 * uniform(rng)) {
-    const Path::State st = road.At(s);
-    const Eigen::Vector2d left(-std::sin(st.heading), std::cos(st.heading));
-    const double side = uniform(rng) < 0.5 ? 1.0 : -1.0;
-    const Eigen::Vector2d xy = st.position + side * (3.0 + 1.5 * uniform(rng)) * left;
-    if (uniform(rng) < 0.2) {
-      w.scene.Add(Cylinder{xy, 0.08, -1.0, 5.0, kPole});
-      continue;
-    }
-    const double trunk_r = 0.15 + 0.15 * uniform(rng), trunk_h = 2.2 + 1.3 * uniform(rng);
-    const double crown_r = 1.2 + 1.0 * uniform(rng);
-    w.scene.Add(Cylinder{xy, trunk_r, -1.0, trunk_h, kTrunk});
-    w.scene.Add(Sphere{Eigen::Vector3d(xy.x(), xy.y(), trunk_h + 0.8 * crown_r), crown_r, kCrown});
-  }
+  AddRoadside(w.scene, road, 11);
   w.motion.path = road;
   w.motion.closed = true;
   w.motion.speed = speed;
@@ -220,10 +227,147 @@ World Outdoor(double speed) {
   return w;
 }
 
+// --- Fixed-size scenes for the realistic carriers -------------------------------------------
+
+constexpr double kShallowRecess = 0.05;  // door recesses of plain office corridors
+constexpr double kArriveMargin = 2.0;    // s standing at the end of a planned walk
+
+double ArriveTime(double duration) { return std::max(duration - kArriveMargin, 0.0); }
+
+// A 2.4 x 2.8 m corridor from x0 to x1 with shallow door recesses and both end walls.
+void AddPlainCorridor(Scene& scene, double x0, double x1, const std::vector<double>& left,
+                      const std::vector<double>& right) {
+  CorridorShape c;
+  c.x0 = x0;
+  c.x1 = x1;
+  AddFloorAndCeiling(scene, c, kShallowRecess);
+  AddSideWall(scene, c, +1, left, kShallowRecess);
+  AddSideWall(scene, c, -1, right, kShallowRecess);
+  scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
+  scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x1, 0.0, c.height, kWall));
+}
+
+// Out along the right half of the corridor, a U-turn to the left, back along the left half.
+Path ThereAndBack(double x_start, double out, double back, double turn_radius) {
+  return Path({Eigen::Vector2d(x_start, -turn_radius), 0.0}).Line(out).Arc(turn_radius, kPi).Line(back);
+}
+
+World LongCorridor(double speed, double duration) {
+  World w;
+  AddPlainCorridor(w.scene, 0.0, 130.0, {17.3, 58.6, 101.2}, {36.9, 83.4});
+  w.motion.path = ThereAndBack(5.0, 88.0, 87.0, 0.5);
+  w.motion.speed = speed;
+  w.motion.arrive_time = ArriveTime(duration);
+  return w;
+}
+
+World EndlessCorridor(double speed, double duration) {
+  World w;
+  AddPlainCorridor(w.scene, 0.0, 460.0, {171.0, 262.8}, {224.5, 298.1});
+  w.motion.path = ThereAndBack(130.0, 200.0, 200.0, 0.5);
+  w.motion.speed = speed;
+  w.motion.arrive_time = ArriveTime(duration);
+  return w;
+}
+
+World StraightCorridor(double speed, double duration) {
+  World w;
+  AddPlainCorridor(w.scene, 0.0, 60.0, {13.7, 44.6}, {29.2});
+  w.motion.path = Path({Eigen::Vector2d(2.0, -0.2), 0.0}).Line(56.0);
+  w.motion.speed = speed;
+  w.motion.arrive_time = ArriveTime(duration);
+  return w;
+}
+
+World Tunnel(double speed, double duration) {
+  World w;
+  constexpr double kLength = 120.0, kRadius = 2.6, kAxisZ = 1.1;
+  constexpr float kConcrete = 0.35f, kPipe = 0.6f, kLamp = 0.9f;
+  const double half_floor = std::sqrt(kRadius * kRadius - kAxisZ * kAxisZ);
+  w.scene.Add(CylinderX{{0.0, kAxisZ}, kRadius, 0.0, kLength, true, 0.0, kConcrete});
+  w.scene.Add(HorizontalRect(0.0, kLength, -half_floor, half_floor, 0.0, kFloor));
+  // Pipes along the right-hand wall (y < 0).
+  w.scene.Add(CylinderX{{-1.9, 1.9}, 0.12, 0.0, kLength, false, -1e9, kPipe});
+  w.scene.Add(CylinderX{{-2.05, 1.5}, 0.08, 0.0, kLength, false, -1e9, kPipe});
+  w.scene.Add(CylinderX{{-2.1, 1.1}, 0.15, 0.0, kLength, false, -1e9, kPipe});
+  // Lamps on the ceiling at slightly irregular spacing (fixed layout seed).
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> gap(10.0, 15.0);
+  const double top = kAxisZ + kRadius;
+  for (double x = 4.0 + gap(rng) * 0.5; x < kLength - 2.0; x += gap(rng)) {
+    w.scene.Add(AxisBox({x - 0.6, -0.15, top - 0.3}, {x + 0.6, 0.15, top}, kLamp));
+  }
+  w.scene.Add(WallAlongY(-kRadius, kRadius, 0.0, 0.0, top, kConcrete));
+  w.scene.Add(WallAlongY(-kRadius, kRadius, kLength, 0.0, top, kConcrete));
+  w.motion.path = Path({Eigen::Vector2d(5.0, 0.4), 0.0}).Line(110.0);
+  w.motion.speed = speed;
+  w.motion.arrive_time = ArriveTime(duration);
+  return w;
+}
+
+// The outdoor scene, generalised: a 105 x 52 m rounded loop (~300 m) with procedurally placed
+// buildings inside and outside it, trees and poles along it, on gently uneven ground.
+World Campus(double speed, double duration) {
+  World w;
+  constexpr double kLength = 105.0, kWidth = 52.0, kCorner = 8.0;
+  // The loop occupies x in [-8, 97], y in [0, 52].
+  w.scene.SetGround(Heightfield(
+      0.0,
+      {{0.15, Eigen::Vector2d(2 * kPi / 40.0, 2 * kPi / 70.0), 0.3},
+       {0.06, Eigen::Vector2d(-2 * kPi / 45.0, 2 * kPi / 13.0), 1.7},
+       {0.02, Eigen::Vector2d(2 * kPi / 6.3, 2 * kPi / 9.0), 0.9}},
+      0.25f));
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  auto range = [&](double a, double b) { return a + (b - a) * uniform(rng); };
+  auto building = [&](double x0, double y0, double x1, double y1) {
+    Box b = AxisBox({x0, y0, -1.0}, {x1, y1, range(5.0, 18.0)}, kFacade);
+    b.rotation = Eigen::AngleAxisd(range(-5.0, 5.0) * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    w.scene.Add(b);
+  };
+  // A row of buildings along x (from x0 to x1) between y = y_near and y_near +- depth.
+  auto row_x = [&](double x0, double x1, double y_near, int away) {
+    for (double x = x0 + range(0.0, 4.0); x < x1;) {
+      const double width = std::min(range(8.0, 18.0), x1 - x), depth = range(6.0, 12.0);
+      if (width > 4.0 && uniform(rng) < 0.8) {
+        building(x, away > 0 ? y_near : y_near - depth, x + width, away > 0 ? y_near + depth : y_near);
+      }
+      x += width + range(3.0, 9.0);
+    }
+  };
+  auto row_y = [&](double y0, double y1, double x_near, int away) {
+    for (double y = y0 + range(0.0, 4.0); y < y1;) {
+      const double width = std::min(range(8.0, 18.0), y1 - y), depth = range(6.0, 12.0);
+      if (width > 4.0 && uniform(rng) < 0.8) {
+        building(away > 0 ? x_near : x_near - depth, y, away > 0 ? x_near + depth : x_near, y + width);
+      }
+      y += width + range(3.0, 9.0);
+    }
+  };
+  row_x(1.0, 88.0, 9.0, +1);     // inside the loop, along its south side
+  row_x(1.0, 88.0, 43.0, -1);    // inside, along the north side
+  row_x(-25.0, 115.0, -8.0, -1);  // outside, south
+  row_x(-25.0, 115.0, 60.0, +1);  // outside, north
+  row_y(2.0, 50.0, -16.0, -1);   // outside, west
+  row_y(2.0, 50.0, 105.0, +1);   // outside, east
+  const Path road = RoundedRectangle(kLength, kWidth, kCorner);
+  AddRoadside(w.scene, road, 29);
+  w.motion.path = road;
+  w.motion.closed = false;  // once round, then stand at the start
+  w.motion.speed = speed;
+  w.motion.sensor_height = 1.8;
+  w.motion.ground = w.scene.ground();
+  w.motion.wobble.lateral = 0.1;
+  w.motion.arrive_time = ArriveTime(duration);
+  return w;
+}
+
 }  // namespace
 
 std::vector<std::string> SceneNames() {
-  return {"corridor", "zigzag", "outdoor", "repetitive", "corridor-return"};
+  return {"corridor",      "zigzag",           "outdoor",           "repetitive",
+          "corridor-return", "long-corridor",  "tunnel", "endless-corridor", "straight-corridor",
+          "campus"};
 }
 
 std::optional<SceneKind> ParseSceneKind(std::string_view name) {
@@ -232,6 +376,11 @@ std::optional<SceneKind> ParseSceneKind(std::string_view name) {
   if (name == "outdoor") return SceneKind::Outdoor;
   if (name == "repetitive") return SceneKind::Repetitive;
   if (name == "corridor-return") return SceneKind::CorridorReturn;
+  if (name == "long-corridor") return SceneKind::LongCorridor;
+  if (name == "tunnel") return SceneKind::Tunnel;
+  if (name == "endless-corridor") return SceneKind::EndlessCorridor;
+  if (name == "straight-corridor") return SceneKind::StraightCorridor;
+  if (name == "campus") return SceneKind::Campus;
   return std::nullopt;
 }
 
@@ -242,11 +391,18 @@ std::string_view SceneName(SceneKind kind) {
     case SceneKind::Outdoor: return "outdoor";
     case SceneKind::Repetitive: return "repetitive";
     case SceneKind::CorridorReturn: return "corridor-return";
+    case SceneKind::LongCorridor: return "long-corridor";
+    case SceneKind::Tunnel: return "tunnel";
+    case SceneKind::EndlessCorridor: return "endless-corridor";
+    case SceneKind::StraightCorridor: return "straight-corridor";
+    case SceneKind::Campus: return "campus";
   }
   return "unknown";
 }
 
-double DefaultSpeed(SceneKind kind) { return kind == SceneKind::Outdoor ? 1.5 : 1.0; }
+double DefaultSpeed(SceneKind kind) {
+  return kind == SceneKind::Outdoor || kind == SceneKind::Campus ? 1.5 : 1.0;
+}
 
 World BuildWorld(SceneKind kind, double speed, double duration) {
   if (!(speed > 0.0)) speed = DefaultSpeed(kind);
@@ -258,6 +414,11 @@ World BuildWorld(SceneKind kind, double speed, double duration) {
     case SceneKind::Outdoor: w = Outdoor(speed); break;
     case SceneKind::Repetitive: w = Repetitive(speed, duration); break;
     case SceneKind::CorridorReturn: w = Corridor(speed, duration, true); break;
+    case SceneKind::LongCorridor: w = LongCorridor(speed, duration); break;
+    case SceneKind::Tunnel: w = Tunnel(speed, duration); break;
+    case SceneKind::EndlessCorridor: w = EndlessCorridor(speed, duration); break;
+    case SceneKind::StraightCorridor: w = StraightCorridor(speed, duration); break;
+    case SceneKind::Campus: w = Campus(speed, duration); break;
   }
   w.scene.Build();
   return w;

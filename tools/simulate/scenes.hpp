@@ -9,7 +9,18 @@
 
 namespace dammloam::sim {
 
-enum class SceneKind { Corridor, Zigzag, Outdoor, Repetitive, CorridorReturn };
+enum class SceneKind {
+  Corridor,
+  Zigzag,
+  Outdoor,
+  Repetitive,
+  CorridorReturn,
+  LongCorridor,
+  Tunnel,
+  EndlessCorridor,
+  StraightCorridor,
+  Campus
+};
 
 // What a scene is for, in one line each:
 //  corridor        straight featureless corridor, no end walls: degenerate along x (paper case)
@@ -17,6 +28,16 @@ enum class SceneKind { Corridor, Zigzag, Outdoor, Repetitive, CorridorReturn };
 //  outdoor         buildings, trees and poles on uneven ground, closed ~40 x 30 m loop
 //  repetitive      identical 10 m corridor segments with periodic doors (loop-closure aliasing)
 //  corridor-return corridor driven to a U-turn and back along the other side
+// Fixed-size scenes for the realistic carriers (presets.hpp); their walks end where planned:
+//  long-corridor     130 x 2.4 x 2.8 m, five 5 cm door recesses, end walls; 88 m out, U-turn
+//                    (r 0.5 m), back to near the start
+//  tunnel            120 m circular tunnel (r 2.6 m, flat floor 1.1 m below the axis), three
+//                    pipes along one side, ceiling lamps every 10-15 m, end walls; 110 m one way
+//  endless-corridor  460 x 2.4 m corridor, a few recesses; 200 m out and back in the middle, the
+//                    end walls stay more than 120 m away
+//  straight-corridor 60 x 2.4 m, three 5 cm recesses; driven straight from x = 2 to x = 58
+//  campus            ~300 m outdoor loop (105 x 52 m) between buildings, trees and poles on
+//                    uneven ground; walked once round, back to the start
 std::vector<std::string> SceneNames();
 std::optional<SceneKind> ParseSceneKind(std::string_view name);
 std::string_view SceneName(SceneKind kind);
@@ -28,7 +49,8 @@ struct World {
 };
 
 // `speed` in m/s (<= 0: the scene's default); `duration` in seconds sizes the corridor scenes so
-// the whole drive stays inside them.
+// the whole drive stays inside them. The fixed-size scenes plan their walk to end (and stand
+// still) 2 s before `duration` (MotionSpec::arrive_time; used by the non-constant carriers).
 World BuildWorld(SceneKind kind, double speed, double duration);
 
 }  // namespace dammloam::sim

@@ -1,5 +1,7 @@
 #include "tools/simulate/simulator.hpp"
 
+#include "tools/simulate/presets.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -46,7 +48,7 @@ Simulator::Simulator(SceneKind kind, SensorSpec sensor, SimOptions options)
     : kind_(kind),
       sensor_(std::move(sensor)),
       options_(options),
-      world_(BuildWorld(kind, options.speed, std::max(options.num_scans, 1) * sensor_.scan_period)),
+      world_(MakeWorld(kind, sensor_, options)),
       trajectory_(world_.motion) {
   if (const std::string why = Validate(sensor_); !why.empty()) {
     throw std::invalid_argument("sensor '" + sensor_.name + "': " + why);
@@ -67,7 +69,38 @@ Simulator::Simulator(SceneKind kind, SensorSpec sensor, SimOptions options)
   }
 }
 
+Simulator::Simulator(const Preset& preset, SensorSpec sensor, std::uint64_t seed, int threads)
+    : Simulator(preset.scene, std::move(sensor), [&] {
+        SimOptions options = preset.Options(seed);
+        options.threads = threads;
+        return options;
+      }()) {}
+
 std::vector<std::string> Simulator::SceneNames() { return sim::SceneNames(); }
+
+World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOptions& options) {
+  const double duration = std::max(options.num_scans, 1) * sensor.scan_period;
+  if (options.motion == MotionKind::Constant) return BuildWorld(kind, options.speed, duration);
+  MotionSpec carrier;
+  carrier.kind = options.motion;
+  const CarrierParams params = CarrierParamsOf(carrier);
+  // --speed rescales the carrier's speeds so that the middle of its range is `speed`.
+  const double scale = options.speed > 0.0 ? 2.0 * options.speed / (params.speed_min + params.speed_max) : 1.0;
+  // Corridor scenes are sized for the fastest walk; a slower one stops at the path's end.
+  World w = BuildWorld(kind, scale * params.speed_max, duration);
+  w.motion.kind = options.motion;
+  w.motion.seed = options.seed;
+  w.motion.duration = duration;
+  w.motion.sensor_height = params.sensor_height;
+  auto rescale = [scale](auto& profile) {
+    profile.speed_min *= scale;
+    profile.speed_max *= scale;
+  };
+  rescale(w.motion.handheld);
+  rescale(w.motion.legged);
+  rescale(w.motion.wheeled);
+  return w;
+}
 
 double Simulator::ScanStartTime(int index) const {
   return options_.t0 + index * sensor_.scan_period;
@@ -87,6 +120,12 @@ void Simulator::SimulateColumn(int index, int column, double t_start, Return* ou
     const Ray ray{T_world_sensor.translation(), T_world_sensor.linear() * dir};
     const std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
     if (!hit || dropped || hit->t < sensor_.min_range) continue;
+    if (options_.full_range_reflectivity > 0.0) {
+      // Lambertian return power ~ reflectivity * cos(incidence) / r^2 against a fixed threshold.
+      const double signal = hit->reflectivity * std::abs(hit->normal.dot(ray.dir)) /
+                            options_.full_range_reflectivity;
+      if (hit->t > sensor_.max_range * std::sqrt(signal)) continue;
+    }
     const double range = hit->t + noise;
     if (range < sensor_.min_range || range > sensor_.max_range) continue;
     // Return strength: material reflectivity times incidence (Lambertian-like), 0..255.

@@ -10,15 +10,30 @@
 
 namespace dammloam::sim {
 
+struct Preset;  // presets.hpp
+
 struct SimOptions {
-  std::uint64_t seed = 1;
-  double noise_sigma = 0.01;  // Gaussian range noise, metres
+  std::uint64_t seed = 1;     // range noise and (a separate stream) the carrier's motion
+  double noise_sigma = 0.01;  // Gaussian range noise, metres (presets and the CLI use 0.015
+                              // for the non-constant carriers)
   double dropout = 0.0;       // probability that a return is lost
-  double speed = 0.0;         // m/s along the path; <= 0: the scene's default
-  int num_scans = 600;        // sizes corridor scenes so the whole drive stays inside
+  double speed = 0.0;         // m/s along the path; <= 0: the scene's default (constant) or
+                              // the carrier's own speeds (others: > 0 rescales their middle)
+  int num_scans = 600;        // the planned run: sizes corridor scenes so the whole drive stays
+                              // inside, and plans a carrier's walk (fixed-size scenes end it
+                              // 2 s before); simulating fewer scans gives a prefix of the run
   double t0 = 1700000000.0;   // start time of scan 0, seconds
   int threads = 0;            // 1: plain loop; otherwise a TBB parallel_for over columns
+  MotionKind motion = MotionKind::Constant;  // the carrier (motion.hpp)
+  // > 0: a return needs enough signal: it is detected up to max_range * sqrt(reflectivity *
+  // cos(incidence) / full_range_reflectivity) (Lambertian target, 1/r^2), so dark walls seen
+  // at grazing angles fade long before max_range. 0: every hit up to max_range (ideal).
+  double full_range_reflectivity = 0.0;
 };
+
+// The full-range reflectivity of the realistic range model: white targets (90 %) at normal
+// incidence reach the sensor's max_range, a 10 % target a third of it (as OS1 data sheets).
+inline constexpr double kRealisticFullRangeReflectivity = 0.9;
 
 // Ray-casts a simulated spinning LiDAR moving through an analytic scene. Every column fires at
 // its own time t_start + column / columns * scan_period from the sensor pose at that time, so
@@ -26,6 +41,9 @@ struct SimOptions {
 class Simulator {
  public:
   Simulator(SceneKind kind, SensorSpec sensor, SimOptions options = {});
+  // A realistic preset: its scene, carrier, noise, range model and planned scan count
+  // (Preset::Options(seed)); `threads` as SimOptions::threads.
+  Simulator(const Preset& preset, SensorSpec sensor, std::uint64_t seed = 1, int threads = 0);
 
   // Scan `index` (0-based): t_start = ScanStartTime(index), points in firing order. The same
   // index and seed always give the same scan, whatever the thread count.
@@ -40,10 +58,13 @@ class Simulator {
   const SensorSpec& sensor() const { return sensor_; }
   const SimOptions& options() const { return options_; }
   SceneKind kind() const { return kind_; }
+  MotionKind motion() const { return options_.motion; }
   const Scene& scene() const { return world_.scene; }
   const Trajectory& trajectory() const { return trajectory_; }
 
   static std::vector<std::string> SceneNames();
+  // The scene with the chosen carrier applied to its motion (what the constructor uses).
+  static World MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOptions& options);
 
  private:
   struct Return {

@@ -12,6 +12,23 @@ double Wave(double amplitude, double period, double t, double phase = 0.0) {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 }  // namespace
 
+CarrierParams CarrierParamsOf(const MotionSpec& spec) {
+  switch (spec.kind) {
+    case MotionKind::Legged: return ToParams(spec.legged);
+    case MotionKind::Wheeled: return ToParams(spec.wheeled);
+    case MotionKind::Constant:
+    case MotionKind::Handheld: break;
+  }
+  return ToParams(spec.handheld);
+}
+
+Trajectory::Trajectory(MotionSpec spec) : spec_(std::move(spec)) {
+  if (spec_.kind != MotionKind::Constant) {
+    carrier_ = std::make_shared<const CarrierMotion>(CarrierParamsOf(spec_), spec_.path, spec_.closed,
+                                                     spec_.duration, spec_.arrive_time, spec_.seed);
+  }
+}
+
 // Raised-cosine speed profile v(t) = v (1 - cos(pi t / T)) / 2 up to T = ramp_up, then v: the
 // drive starts from rest with continuous acceleration, as real runs do.
 double Trajectory::Distance(double t) const {
@@ -38,6 +55,7 @@ Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
 }
 
 Eigen::Isometry3d Trajectory::Pose(double t) const {
+  if (carrier_) return CarrierPose(t);
   double path_heading = 0.0;
   const Eigen::Vector3d p = Position(t, &path_heading);
   // Yaw follows the path and the zig-zag (its slope per metre of path, so it stays defined while
@@ -62,6 +80,40 @@ Eigen::Isometry3d Trajectory::Pose(double t) const {
   pitch += kDegToRad * Wave(spec_.wobble.pitch_deg, spec_.wobble.pitch_period, t, 0.7);
   roll += kDegToRad * Wave(spec_.wobble.roll_deg, spec_.wobble.roll_period, t, 2.9);
 
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+// The carrier's distance along the path, the zig-zag of the scene, the body motion on top.
+Eigen::Isometry3d Trajectory::CarrierPose(double t) const {
+  const CarrierMotion::Sample sample = carrier_->Eval(t);
+  const double s = sample.s;
+  const CarrierMotion::Body body = carrier_->BodyAt(t, sample.gait);
+  const Path::State base = spec_.path.At(s, spec_.closed);
+  const Eigen::Vector2d left(-std::sin(base.heading), std::cos(base.heading));
+  const double lateral = Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) + body.lateral;
+  const Eigen::Vector2d xy = base.position + lateral * left;
+  const double ground = spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0;
+  const Eigen::Vector3d p(xy.x(), xy.y(), ground + spec_.sensor_height + body.vertical);
+
+  const double zigzag_slope =
+      spec_.zigzag_wavelength > 0.0
+          ? spec_.zigzag_amplitude * 2.0 * std::numbers::pi / spec_.zigzag_wavelength *
+                std::cos(2.0 * std::numbers::pi * s / spec_.zigzag_wavelength)
+          : 0.0;
+  const double yaw = base.heading + std::atan(zigzag_slope) + body.yaw;
+  double pitch = body.pitch, roll = body.roll;
+  if (spec_.ground) {
+    const Eigen::Vector2d g = spec_.ground->Gradient(p.x(), p.y());
+    const Eigen::Vector2d forward(std::cos(yaw), std::sin(yaw)), side(-forward.y(), forward.x());
+    pitch -= std::atan(g.dot(forward));
+    roll += std::atan(g.dot(side));
+  }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                 Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *

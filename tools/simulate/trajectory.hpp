@@ -1,7 +1,10 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
 #include <optional>
 
+#include "tools/simulate/motion.hpp"
 #include "tools/simulate/path.hpp"
 #include "tools/simulate/primitives.hpp"
 
@@ -27,23 +30,42 @@ struct MotionSpec {
   double zigzag_wavelength = 10.0; // metres of path per zig-zag period
   Wobble wobble;
   std::optional<Heightfield> ground;  // z and roll/pitch follow it when set (else ground z = 0)
+
+  // Carrier (see motion.hpp). Constant: `speed`, `ramp_up` and `wobble` above, as always.
+  // Otherwise the profile of `kind` drives the speed along the path and the body motion (the
+  // wobble is not used, the zig-zag is), seeded by `seed`, planned for `duration` seconds.
+  MotionKind kind = MotionKind::Constant;
+  std::uint64_t seed = 1;
+  double duration = 60.0;
+  double arrive_time = 0.0;  // > 0: reach the end of an open path at this time (see CarrierMotion)
+  HandheldProfile handheld;
+  LeggedProfile legged;
+  WheeledProfile wheeled;
 };
+
+// The chosen carrier's parameters (Constant: none; returns the handheld ones).
+CarrierParams CarrierParamsOf(const MotionSpec& spec);
 
 // The sensor pose as a smooth function of time. Yaw follows the direction of travel, roll and
 // pitch follow the ground slope, plus the wobble.
 class Trajectory {
  public:
-  explicit Trajectory(MotionSpec spec) : spec_(std::move(spec)) {}
+  explicit Trajectory(MotionSpec spec);
 
   // T_world_sensor at t seconds after the start of the drive.
   Eigen::Isometry3d Pose(double t) const;
   const MotionSpec& spec() const { return spec_; }
+  // The precomputed carrier (null for constant motion).
+  const CarrierMotion* carrier() const { return carrier_.get(); }
 
  private:
   Eigen::Vector3d Position(double t, double* path_heading = nullptr) const;
   double Distance(double t) const;  // arc length travelled along the path after t seconds
 
+  Eigen::Isometry3d CarrierPose(double t) const;
+
   MotionSpec spec_;
+  std::shared_ptr<const CarrierMotion> carrier_;  // shared: copies of a simulator stay cheap
 };
 
 }  // namespace dammloam::sim
