@@ -175,7 +175,7 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     }
   } else {
     double from = rng.Range(params_.speed_min, params_.speed_max), to = from;
-    double change_at = rng.Range(params_.hold_min, params_.hold_max), change_len = 0.0;
+    double change_at = 0.0, change_len = 0.0;  // the first change is scheduled at t = 0
     for (std::size_t k = 0; k < n; ++k) {
       const double t = static_cast<double>(k) * kDt;
       if (t >= change_at + change_len) {
@@ -233,7 +233,12 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     const double kappa = std::abs(path.Curvature(std::min(static_cast<double>(i) * kLimitDs, path_length_)));
     if (kappa > 1e-9) limit_[i] = std::sqrt(params_.lateral_accel / kappa);
   }
-  if (!closed_) limit_.back() = 0.0;
+  if (!closed_) {  // stop exactly at the end: v^2 = 2 a (L - s)
+    for (std::size_t i = 0; i < limit_.size(); ++i) {
+      const double left = std::max(path_length_ - static_cast<double>(i) * kLimitDs, 0.0);
+      limit_[i] = std::min(limit_[i], std::sqrt(2.0 * accel * left));
+    }
+  }
   const double step = 2.0 * accel * kLimitDs;
   for (std::size_t i = 1; i < limit_.size(); ++i) limit_[i] = std::min(limit_[i], std::sqrt(limit_[i - 1] * limit_[i - 1] + step));
   for (std::size_t i = limit_.size() - 1; i-- > 0;) limit_[i] = std::min(limit_[i], std::sqrt(limit_[i + 1] * limit_[i + 1] + step));
@@ -303,6 +308,7 @@ double CarrierMotion::SpeedLimit(double s) const {
     s = std::fmod(s, path_length_);
     if (s < 0.0) s += path_length_;
   }
+  if (!closed_ && s >= path_length_) return 0.0;
   const double x = std::max(s, 0.0) / kLimitDs;
   const std::size_t i = static_cast<std::size_t>(x);
   if (i + 1 >= limit_.size()) return limit_.back();

@@ -1,0 +1,97 @@
+// dammloam-simulate --preset / --motion round trips.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <unistd.h>
+
+#include "tools/common/sequence_io.hpp"
+#include "tools/simulate/presets.hpp"
+#include "tools/simulate/simulator.hpp"
+
+namespace dammloam::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SimulatePresetCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("dammloam-simp-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  int Run(const std::string& args) const {
+    const std::string cmd = std::string(DAMMLOAM_BIN_DIR) + "/dammloam-simulate " + args + " > " +
+                            (dir_ / "log.txt").string() + " 2>&1";
+    return std::system(cmd.c_str());
+  }
+  std::string Log() const {
+    std::ifstream in(dir_ / "log.txt");
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SimulatePresetCli, PresetPrefixMatchesTheLibrary) {
+  const fs::path out = dir_ / "seq";
+  ASSERT_EQ(Run("--preset wheeled-corridor --sensor vlp-16 --scans 3 --seed 5 --columns 360 --out " +
+                out.string()),
+            0)
+      << Log();
+  EXPECT_NE(Log().find("preset=wheeled-corridor"), std::string::npos) << Log();
+  const io::SequenceReader reader = io::SequenceReader::Open(out);
+  ASSERT_EQ(reader.size(), 3u);
+  SensorSpec sensor = Vlp16();
+  sensor.columns = 360;
+  const Simulator sim(*FindPreset("wheeled-corridor"), sensor, 5);  // planned: 800 scans
+  const auto gt = reader.ReadGroundTruth();
+  ASSERT_TRUE(gt.has_value());
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Eigen::Isometry3d T = sim.PoseAt(sim.ScanStartTime(static_cast<int>(k)));
+    EXPECT_LT(((*gt)[k].T.translation() - T.translation()).norm(), 1e-6);
+    const Scan expected = sim.SimulateScan(static_cast<int>(k));
+    const Scan scan = reader.ReadScan(k);
+    ASSERT_EQ(scan.size(), expected.size());
+    for (std::size_t i = 0; i < scan.size(); i += 31) {
+      ASSERT_LT((scan.points[i] - expected.points[i]).norm(), 1e-4);
+    }
+  }
+}
+
+TEST_F(SimulatePresetCli, MotionOnAnyScene) {
+  const fs::path out = dir_ / "seq";
+  ASSERT_EQ(Run("--scene corridor --motion legged --scans 3 --columns 256 --out " + out.string()), 0)
+      << Log();
+  EXPECT_NE(Log().find("noise=0.015"), std::string::npos) << Log();
+  EXPECT_NE(Log().find("range=realistic"), std::string::npos) << Log();
+  EXPECT_EQ(io::SequenceReader::Open(out).size(), 3u);
+}
+
+TEST_F(SimulatePresetCli, HelpListsPresetsMotionsAndScenes) {
+  ASSERT_EQ(Run("--help"), 0);
+  for (const std::string& name : PresetNames()) EXPECT_NE(Log().find(name), std::string::npos) << name;
+  for (const std::string& name : MotionNames()) EXPECT_NE(Log().find(name), std::string::npos) << name;
+  EXPECT_NE(Log().find("endless-corridor"), std::string::npos);
+}
+
+TEST_F(SimulatePresetCli, BadCombinationsFail) {
+  EXPECT_NE(Run("--preset nowhere --out " + (dir_ / "a").string()), 0);
+  EXPECT_NE(Log().find("nowhere"), std::string::npos) << Log();
+  EXPECT_NE(Run("--preset legged-tunnel --scene corridor --out " + (dir_ / "b").string()), 0);
+  EXPECT_NE(Run("--scene corridor --out " + (dir_ / "c").string()), 0);  // no --scans
+  EXPECT_NE(Log().find("--scans"), std::string::npos) << Log();
+  EXPECT_NE(Run("--out " + (dir_ / "d").string()), 0);  // neither scene nor preset
+  EXPECT_NE(Run("--scene corridor --scans 2 --motion flying --out " + (dir_ / "e").string()), 0);
+}
+
+}  // namespace
+}  // namespace dammloam::sim
