@@ -5,7 +5,6 @@
 
 #include "core/odometry/frame_downsample.hpp"
 #include "core/preprocess/deskew.hpp"
-#include "core/registration/registration.hpp"
 
 namespace dammloam {
 
@@ -59,7 +58,8 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
       map_(AutoVoxelSize(config.map, 0.0), config.map.max_distance,
            config.map.max_points_per_voxel),
       threshold_(config.registration.initial_threshold,
-                 config.registration.min_motion_threshold, config.map.max_distance) {}
+                 config.registration.min_motion_threshold, config.map.max_distance),
+      translation_filter_(config.motion_prior) {}
 
 Eigen::Matrix3d Odometry::PredictedOrientation() const {
   return (T_world_last_ * ExpSE3(velocity_ * sensor_.scan_period)).linear();
@@ -108,6 +108,48 @@ Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan) {
   return {Gather(scan.scan.points, idx), Gather(scan.labels, idx)};
 }
 
+MotionPrior Odometry::Prior(double dt, bool holds) {
+  if (!UsesMotionPrior(config_.registration.mode)) return {holds, {}, 0.0};
+  const Eigen::Matrix3d covariance = translation_filter_.Predict(dt);
+  return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
+          config_.max_angular_acceleration * dt * dt};
+}
+
+Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
+                                    const Eigen::Isometry3d& T_new,
+                                    const RegistrationResult& reg, double dt) {
+  const Matrix6d& I = reg.data_information;
+  // The scan's information on the position alone (rotation marginalised out).
+  const Eigen::Matrix3d I_tt =
+      I.topLeftCorner<3, 3>() -
+      I.topRightCorner<3, 3>() * I.bottomRightCorner<3, 3>().ldlt().solve(I.bottomLeftCorner<3, 3>());
+  const Eigen::Vector3d t_last = T_world_last_.translation();
+  const Eigen::Vector3d v_pred = (T_pred.translation() - t_last) / dt;
+  const Eigen::Vector3d v =
+      translation_filter_.Update(v_pred, T_new.translation() - T_pred.translation(), I_tt);
+  Eigen::Isometry3d T_velocity = T_new;
+  T_velocity.translation() = t_last + v * dt;
+  return LogSE3(T_world_last_.inverse() * T_velocity) / dt;
+}
+
+// Along an observed direction the map anchors the pose, so its uncertainty is this scan's; along
+// a degenerate one each scan's uncertainty adds to what has built up since the direction was
+// last observed.
+Matrix6d Odometry::PoseCovariance(const RegistrationResult& reg) {
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (!reg.degeneracy.degenerate[static_cast<std::size_t>(i)]) continue;
+    const Eigen::Vector3d v = reg.degeneracy.eigenvectors.col(i);
+    P.noalias() += v * v.transpose();
+  }
+  const Eigen::Matrix3d C = reg.covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d Q = Eigen::Matrix3d::Identity() - P;
+  unobserved_covariance_ = P * (unobserved_covariance_ + C) * P;
+  Matrix6d pose = reg.covariance;
+  pose.topLeftCorner<3, 3>() = Q * C * Q + unobserved_covariance_;
+  return pose;
+}
+
 OdometryResult Odometry::Register(ClassifiedScan&& scan) {
   return RegisterAndUpdate(std::move(scan), false);
 }
@@ -150,6 +192,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   const double dt = initialised_ ? scan.scan.t_start - last_stamp_ : sensor_.scan_period;
   if (initialised_ && dt > config_.max_time_gap) {
     velocity_.setZero();
+    translation_filter_.Reset();
     motion_model_holds_ = false;
     last_scan_degenerate_ = false;
     result.status = OdometryStatus::kTimeGap;
@@ -173,6 +216,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     result.status = OdometryStatus::kFirstScan;
   } else {
     const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
+    Eigen::Isometry3d T_guess = T_pred;  // the prediction the registration started from
     const double sigma = threshold_.Sigma();
     RegistrationConfig registration = config_.registration;
     if (last_scan_degenerate_) {
@@ -180,7 +224,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     }
     RegistrationResult reg =
         RegisterScan(source.points, source.labels, map_, T_pred, 3.0 * sigma, sigma / 3.0,
-                     registration, motion_model_holds_);
+                     registration, Prior(dt, motion_model_holds_));
     auto deviation = [&](const Eigen::Isometry3d& T) {
       return (T_pred.inverse() * T).translation().norm();
     };
@@ -195,13 +239,15 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       scan = std::move(*raw);
       T_mid_start = DeskewToMidScan(scan, measured);
       source = SelectSource(scan);
-      reg = RegisterScan(source.points, source.labels, map_,
-                         T_world_last_ * ExpSE3(measured * dt), 3.0 * sigma, sigma / 3.0,
-                         registration, false);
+      T_guess = T_world_last_ * ExpSE3(measured * dt);
+      translation_filter_.Reset();  // the velocity it predicted with was wrong
+      reg = RegisterScan(source.points, source.labels, map_, T_guess, 3.0 * sigma, sigma / 3.0,
+                         registration, Prior(dt, false));
     }
     first_scan_raw_.reset();
     result.timings.registration_ms = watch.LapMs();
     result.covariance = reg.covariance;
+    result.pose_covariance = PoseCovariance(reg);
     result.degeneracy = reg.degeneracy;
     result.alpha = reg.alpha;
     result.num_correspondences = reg.num_planar + reg.num_point;
@@ -216,7 +262,9 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     if (result.status != OdometryStatus::kTimeGap) {
       threshold_.UpdateModelDeviation(T_pred.inverse() * T_new);
     }
-    velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
+    velocity_ = UsesMotionPrior(config_.registration.mode)
+                    ? FilteredVelocity(T_guess, T_new, reg, dt)
+                    : LogSE3(T_world_last_.inverse() * T_new) / dt;
     motion_model_holds_ = deviation(T_new) <= config_.motion_model_max_deviation;
     last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
   }

@@ -13,6 +13,7 @@
 #include "core/preprocess/classified_scan.hpp"
 #include "core/preprocess/downsample.hpp"
 #include "core/registration/adaptive_threshold.hpp"
+#include "core/registration/registration.hpp"
 
 namespace dammloam {
 
@@ -50,6 +51,12 @@ class Odometry {
   };
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
   SourcePoints SelectSource(const ClassifiedScan& scan);
+  // The constant-velocity prediction's prior over a scan interval dt.
+  MotionPrior Prior(double dt, bool holds);
+  // Full mode: the velocity after a registration, from the translation filter.
+  Vector6d FilteredVelocity(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T_new,
+                            const RegistrationResult& reg, double dt);
+  Matrix6d PoseCovariance(const RegistrationResult& reg);
   void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(const ClassifiedScan& scan);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
@@ -68,6 +75,10 @@ class Odometry {
   // The last registration landed within config_.motion_model_max_deviation of its prediction.
   bool motion_model_holds_ = false;
   bool last_scan_degenerate_ = false;  // selects the release ratio (hysteresis)
+  // Translation covariance accumulated along the directions degenerate since they were last
+  // observed (world frame).
+  Eigen::Matrix3d unobserved_covariance_ = Eigen::Matrix3d::Zero();
+  TranslationFilter translation_filter_;
   // The first scan before deskewing, until the first registration has measured the motion.
   std::optional<ClassifiedScan> first_scan_raw_;
   // A deferred map update: the registered scan (mid-scan frame) and its pose.

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/map/map_config.hpp"
+#include "core/odometry/translation_filter.hpp"
 #include "core/preprocess/preprocess_config.hpp"
 #include "core/registration/registration_config.hpp"
 
@@ -13,6 +14,10 @@ struct OdometryConfig {
   DownsampleConfig downsample;  // registration source (class-aware, adaptive)
   MapConfig map;
   RegistrationConfig registration;
+  // Full mode's motion prior: how far the carrier departs from constant velocity. The
+  // defaults fit a hand-held sensor and serve wheeled and legged carriers too.
+  TranslationFilter::Config motion_prior;
+  double max_angular_acceleration = 5.0;  // rad/s^2: orientation prior sigma = this * dt^2
   // Map insertion keeps one point per class per voxel of this fraction of the map voxel.
   double map_frame_voxel_factor = 0.5;
   bool deskew = true;

@@ -61,7 +61,12 @@ struct OdometryResult {
   std::uint64_t scan_index = 0;
   OdometryStatus status = OdometryStatus::kOk;
   Eigen::Isometry3d T_world_sensor = Eigen::Isometry3d::Identity();  // at scan start
-  Matrix6d covariance = Matrix6d::Identity();                 // tangent order [t; r]
+  // Of this scan's registration (the motion since the last scan), tangent order [t; r]: what
+  // the pose graph's odometry edges sum.
+  Matrix6d covariance = Matrix6d::Identity();
+  // Of the pose in the odometry frame: the registration's, plus along the directions that have
+  // been degenerate since they were last observed, everything accumulated while they were.
+  Matrix6d pose_covariance = Matrix6d::Identity();
   Vector6d velocity = Vector6d::Zero();                       // [v; w] in sensor frame, per s
   DegeneracyReport degeneracy;
   double alpha = 0.0;                                         // planar share (GenZ-style)

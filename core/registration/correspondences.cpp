@@ -16,6 +16,7 @@ PairKind Classify(RegistrationMode mode, PointClass source_label, const MapPoint
     case RegistrationMode::kPointToPoint: return PairKind::kPoint;
     case RegistrationMode::kPlaneOnly: return has_normal ? PairKind::kPlanar : PairKind::kNone;
     case RegistrationMode::kFull:
+    case RegistrationMode::kFullRemap:
     case RegistrationMode::kClassesNoDegeneracy: break;
   }
   // An unknown source point has taken the map point's class (see FindCorrespondences).

@@ -2,7 +2,11 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include "core/registration/correspondences.hpp"
@@ -110,6 +114,101 @@ Eigen::Matrix3d PointResidualMetric(const DegeneracyReport& report) {
   return report.eigenvectors * scale.asDiagonal() * report.eigenvectors.transpose();
 }
 
+bool Faces(const Eigen::Vector3d& normal, const DegeneracyReport& report, double strong_cosine) {
+  for (int i = 0; i < 3; ++i) {
+    if (report.degenerate[i] && std::abs(normal.dot(report.eigenvectors.col(i))) >= strong_cosine) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// A map structure continues along v from `target` (a corner line along a corridor, a wall) when
+// the map holds a point about one voxel away along v on either side.
+bool ContinuesAlong(const VoxelHashMap& map, const Eigen::Vector3d& target,
+                    const DegeneracyReport& report) {
+  const double step = map.voxel_size(), radius = 0.5 * map.voxel_size();
+  for (int i = 0; i < 3; ++i) {
+    if (!report.degenerate[i]) continue;
+    const Eigen::Vector3d offset = step * report.eigenvectors.col(i);
+    if (map.ClosestNeighbour(target + offset, std::nullopt, radius) != nullptr ||
+        map.ClosestNeighbour(target - offset, std::nullopt, radius) != nullptr) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Full mode, when the planes leave a direction weak: what the pairs say along it. A pair counts
+// there only through a surface that faces it (|n.v| >= strong_cosine: a door jamb, an end wall,
+// a lamp), whatever its class, or through a point pair on a structure that ends along it (a
+// far end wall two rings tall, a door frame). Every other pair loses its component along the
+// direction: the noise of a wall's normal along a corridor is not information about the axis,
+// and a point pair on a corner line along the corridor follows the ring pattern and reports
+// standstill.
+struct WeakAwarePairs {
+  std::vector<Correspondence> planar;
+  std::vector<Correspondence> point;       // informative along every direction
+  std::vector<Correspondence> point_flat;  // without their weak components
+};
+
+WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport& report,
+                         const VoxelHashMap& map, double strong_cosine) {
+  WeakAwarePairs out{pairs.planar, {}, {}};
+  std::vector<std::uint8_t> continues(pairs.point.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.point.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        continues[i] = ContinuesAlong(map, pairs.point[i].target, report);
+                      }
+                    });
+  for (std::size_t i = 0; i < pairs.point.size(); ++i) {
+    const Correspondence& c = pairs.point[i];
+    if (Faces(c.normal, report, strong_cosine)) {
+      out.planar.push_back(c);
+    } else {
+      (continues[i] ? out.point_flat : out.point).push_back(c);
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (!report.degenerate[i]) continue;
+    const Eigen::Vector3d v = report.eigenvectors.col(i);
+    for (Correspondence& c : out.planar) {
+      const double d = c.normal.dot(v);
+      if (std::abs(d) < strong_cosine) c.normal -= d * v;
+    }
+  }
+  return out;
+}
+
+// Full mode: point residuals without their components along degenerate directions.
+Eigen::Matrix3d WithoutDegenerate(const DegeneracyReport& report) {
+  Eigen::Matrix3d W = Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    if (report.degenerate[i]) {
+      W.noalias() -= report.eigenvectors.col(i) * report.eigenvectors.col(i).transpose();
+    }
+  }
+  return W;
+}
+
+// The motion prior as a factor on the sensor's position and orientation: residual
+// [t - t_pred; log(R R_pred^T)], Jacobian [I, -Hat(t); 0, I] under the left perturbation.
+void AddMotionPrior(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_pred,
+                    const MotionPrior& prior, Matrix6d& H, Vector6d& b) {
+  Vector6d e;
+  e << T.translation() - T_pred.translation(), LogSO3(T.linear() * T_pred.linear().transpose());
+  Matrix6d J = Matrix6d::Identity();
+  J.topRightCorner<3, 3>() = -Hat(T.translation());
+  Matrix6d information = Matrix6d::Zero();
+  information.topLeftCorner<3, 3>() = prior.translation_information;
+  information.bottomRightCorner<3, 3>().diagonal().setConstant(
+      1.0 / (prior.rotation_sigma * prior.rotation_sigma));
+  const Matrix6d JtW = J.transpose() * information;
+  H.noalias() += JtW * J;
+  b.noalias() += JtW * e;
+}
+
 void Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
   for (Eigen::Vector3d& p : points) p = T * p;
 }
@@ -121,17 +220,19 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
                                 const RegistrationConfig& config,
-                                bool prediction_is_motion_model) {
+                                const MotionPrior& prior) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
   Transform(initial_guess, source_world);
-  // With remapping configured, the weights go with it: they take the weak directions away
-  // from the data, which only the held prediction can then fill. Without a trusted prediction
-  // (a start, a reset, a turn the model missed) the data keeps them, unweighted.
+  // full_remap: the weights go with the remapping: they take the weak directions away from the
+  // data, which only the held prediction can then fill. Without a trusted prediction (a start,
+  // a reset, a turn the model missed) the data keeps them, unweighted.
   const bool weighted = UsesDegeneracyWeights(config.mode) &&
-                        (prediction_is_motion_model || !config.remap_degenerate_directions);
+                        (prior.holds || !config.remap_degenerate_directions);
   const bool remap = weighted && config.remap_degenerate_directions;
+  const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
+  const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
 
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
     const CorrespondenceSet pairs =
@@ -142,30 +243,50 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
 
     // Paper eqs. (C_t, w_t): the point weights come from the planar correspondences alone.
     const Eigen::Matrix3d H_planar = PlanarTranslationHessian(pairs.planar);
-    const DegeneracyReport planar_report =
-        AnalyseTranslation(H_planar, config.degenerate_eigenvalue_ratio);
-    // Weighting trades information for robustness; a well-conditioned scene has nothing to
-    // gain from it, so by default it starts where the analysis finds a degenerate direction.
-    const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
-    const std::vector<double> weights =
-        weigh ? DegeneracyWeights(pairs.planar, planar_report)
-              : std::vector<double>(pairs.planar.size(), 1.0);
+    const DegeneracyReport planar_report = AnalyseTranslation(
+        H_planar, fused ? config.weak_eigenvalue_ratio : config.degenerate_eigenvalue_ratio);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
-    const Eigen::Matrix3d point_metric =
-        weigh && config.weight_point_residuals ? PointResidualMetric(planar_report)
-                                                  : Eigen::Matrix3d::Identity();
-    LinearSystem system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
-    system += PointSystem(pairs.point, 1.0 - alpha, point_metric, kernel_scale);
+    LinearSystem system;
+    if (fused && planar_report.AnyDegenerate()) {
+      const WeakAwarePairs weak_aware =
+          WeakAware(pairs, planar_report, map, config.strong_normal_cosine);
+      system = PlanarSystem(weak_aware.planar, std::vector<double>(weak_aware.planar.size(), 1.0),
+                            alpha, kernel_scale);
+      system += PointSystem(weak_aware.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
+                            kernel_scale);
+      system += PointSystem(weak_aware.point_flat, 1.0 - alpha,
+                            WithoutDegenerate(planar_report), kernel_scale);
+    } else {
+      // Weighting trades information for robustness; a well-conditioned scene has nothing to
+      // gain from it, so by default it starts where the analysis finds a degenerate direction.
+      const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
+      const std::vector<double> weights =
+          weigh ? DegeneracyWeights(pairs.planar, planar_report)
+                : std::vector<double>(pairs.planar.size(), 1.0);
+      const Eigen::Matrix3d point_metric =
+          weigh && config.weight_point_residuals ? PointResidualMetric(planar_report)
+                                                    : Eigen::Matrix3d::Identity();
+      system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
+      system += PointSystem(pairs.point, 1.0 - alpha, point_metric, kernel_scale);
+    }
 
     const DegeneracyReport report =
         AnalyseTranslation(system.H.topLeftCorner<3, 3>(), config.degenerate_eigenvalue_ratio);
-    const Matrix6d H = Regularised(system.H, config.covariance_regularisation);
-    Vector6d dx = -H.ldlt().solve(system.b);
+    Matrix6d H = Regularised(system.H, config.covariance_regularisation);
+    Vector6d b = system.b;
+    if (fused) {
+      // Information in absolute units, so that it weighs against the prior's.
+      H *= information_scale;
+      b *= information_scale;
+      result.data_information = H;
+      AddMotionPrior(result.T_world_sensor, initial_guess, prior, H, b);
+    }
+    Vector6d dx = -H.ldlt().solve(b);
     // Remapping keeps the motion model's prediction along the directions the planes leave
     // free. Point pairs do not count there: along a corridor they follow the ring pattern
     // and report standstill. A prediction is only worth keeping once the model has held;
     // from rest or after a reset every direction is left to the data.
-    if (remap && prediction_is_motion_model) {
+    if (remap && prior.holds) {
       RemapDegenerateTranslation(planar_report, dx);
     }
     if (!dx.allFinite()) break;
@@ -180,9 +301,13 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     result.num_planar = static_cast<std::uint32_t>(pairs.planar.size());
     result.num_point = static_cast<std::uint32_t>(pairs.point.size());
     result.iterations = iteration;
-    const double dof = std::max(1.0, static_cast<double>(pairs.planar.size() +
-                                                         3 * pairs.point.size()) - 6.0);
-    result.covariance = (system.chi2 / dof) * H.inverse();
+    if (fused) {
+      result.covariance = H.inverse();  // absolute information: its inverse is the covariance
+    } else {
+      const double dof = std::max(1.0, static_cast<double>(pairs.planar.size() +
+                                                           3 * pairs.point.size()) - 6.0);
+      result.covariance = (system.chi2 / dof) * H.inverse();
+    }
     if (dx.norm() < config.convergence_criterion) {
       result.converged = true;
       break;

@@ -22,20 +22,36 @@ struct RegistrationResult {
   int iterations = 0;
   bool converged = false;
   bool enough_correspondences = false;  // false: the pose is the initial guess, untouched
+  // Full mode: the scan's own information on the pose (without the prior), absolute units.
+  Matrix6d data_information = Matrix6d::Zero();
+};
+
+// What the motion model predicts for a scan (the initial guess) and how far the carrier can
+// depart from it within one scan period.
+struct MotionPrior {
+  // The model has held on recent scans (full_remap keeps the prediction along degenerate
+  // directions only then).
+  bool holds = true;
+  // Full mode's prior factor: information on the sensor position (world frame, 1/m^2) and
+  // 1-sigma departure of the orientation (rad) from the prediction. rotation_sigma 0: none.
+  Eigen::Matrix3d translation_information = Eigen::Matrix3d::Zero();
+  double rotation_sigma = 0.0;
 };
 
 // Robust Gauss-Newton on SE(3) of sensor-frame `source` points against the map, starting at
 // `initial_guess` (paper Sec. III-B). Per iteration: class-wise correspondences within
 // max_correspondence_distance, degeneracy weights on planar pairs, alpha between the planar
 // and the point sums, Geman-McClure kernel of scale kernel_scale.
-// prediction_is_motion_model: the guess extrapolates a motion model that has been holding, so
-// full mode may keep it along degenerate directions (solution remapping); false after a
-// start from rest or a reset, when every direction is left to the data.
+// Full mode weighs the data's information (in absolute units, see residual_sigma) against the
+// motion prior, direction by direction: along a direction the planes leave weak only pairs that
+// really face it count, and the prior fills what they leave unobserved. full_remap is the
+// paper's weighting plus solution remapping: it keeps the prediction along degenerate
+// directions once prior.holds, and leaves every direction to the data otherwise.
 RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
                                 const RegistrationConfig& config,
-                                bool prediction_is_motion_model = true);
+                                const MotionPrior& prior = {});
 
 }  // namespace dammloam

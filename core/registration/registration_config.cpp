@@ -6,8 +6,9 @@
 namespace dammloam {
 
 namespace {
-constexpr std::array<std::pair<RegistrationMode, std::string_view>, 4> kModeNames{{
+constexpr std::array<std::pair<RegistrationMode, std::string_view>, 5> kModeNames{{
     {RegistrationMode::kFull, "full"},
+    {RegistrationMode::kFullRemap, "full_remap"},
     {RegistrationMode::kPointToPoint, "point_to_point"},
     {RegistrationMode::kPlaneOnly, "plane_only"},
     {RegistrationMode::kClassesNoDegeneracy, "classes_no_degeneracy"},

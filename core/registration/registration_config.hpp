@@ -7,7 +7,8 @@ namespace dammloam {
 // Which residuals the registration uses. kFull is the paper's method; the others are the
 // ablations of the benchmark.
 enum class RegistrationMode {
-  kFull,                 // class-wise pt2pl/pt2pt, alpha, degeneracy weights, remapping
+  kFull,                 // class-wise pt2pl/pt2pt, alpha, weak directions fused with the motion prior
+  kFullRemap,            // class-wise, alpha, the paper's degeneracy weights, solution remapping
   kPointToPoint,         // every point point-to-point, any class (KISS-ICP-like)
   kPlaneOnly,            // every point point-to-plane against the map normal, any class
   kClassesNoDegeneracy,  // class-wise pt2pl/pt2pt with alpha, all weights 1
@@ -34,15 +35,15 @@ struct RegistrationConfig {
   // otherwise be released for single scans whose weak, ring-biased information then kicks the
   // held velocity (a 200 m OS1-64 corridor ended at twice its true speed).
   double degenerate_release_ratio = 0.02;
-  // Full mode: translation updates along degenerate directions are dropped, so the estimate
+  // full_remap mode: translation updates along degenerate directions are dropped, so the estimate
   // keeps the constant-velocity prediction there (solution remapping), once the motion model
   // has held (see OdometryConfig::motion_model_max_deviation).
   bool remap_degenerate_directions = true;
-  // Full mode: degeneracy weights apply on every scan, not only where a direction is
+  // full_remap mode: degeneracy weights apply on every scan, not only where a direction is
   // degenerate (the paper applies them always; in well-conditioned scenes they only remove
   // information, measured by dammloam-bench-odometry).
   bool weight_always = false;
-  // Full mode: point residuals are weighted per eigen-direction like planar normals, so edge
+  // full_remap mode: point residuals are weighted per eigen-direction like planar normals, so edge
   // and unknown points cannot pin a direction the planes leave weak.
   bool weight_point_residuals = true;
   // Class-wise modes: an `unknown` source point (the scan could not judge its surface, as on a
@@ -51,13 +52,33 @@ struct RegistrationConfig {
   // Off, it only matches unknown map points, and a VLP-16 corridor loses the far end walls
   // that are the only constraint along its axis.
   bool unknown_defers_to_map = true;
+  // Full mode (the motion prior): along a direction the planes leave weak, a planar pair counts
+  // only if its normal's cosine to the direction is at least this (a door jamb, an end wall, a
+  // lamp face). Walls along a corridor carry a few per cent of their normal's noise along the
+  // axis, and with thousands of them that noise would outweigh the prior; point pairs there
+  // follow the ring pattern and report standstill, so they never count along a weak direction.
+  double strong_normal_cosine = 0.5;
+  // Full mode: a direction is weak, and its pairs are sorted as above, when lambda_i /
+  // lambda_max of the planar H_tt is below this. Sorting costs a direction nothing that facing
+  // pairs observe, so the bar is higher than for the paper's weights: a corridor still seeing a
+  // far end wall sits at 0.008-0.015, where the walls' normal noise would otherwise slide the
+  // estimate along the axis (1.7 m in one scan on the hand-held OS1-64 corridor).
+  double weak_eigenvalue_ratio = 0.05;
+  // Full mode: 1-sigma noise of one pair's residual (range noise of scan and map, surface
+  // roughness): turns the data's normal equations into information in absolute units, so that
+  // they weigh against the motion prior's.
+  double residual_sigma = 0.02;
   int min_correspondences = 30;         // fewer: the scan is not registered
   double covariance_regularisation = 1e-6;  // relative to trace(H)/6, keeps H invertible
 };
 
 constexpr bool ClassWise(RegistrationMode m) {
-  return m == RegistrationMode::kFull || m == RegistrationMode::kClassesNoDegeneracy;
+  return m == RegistrationMode::kFull || m == RegistrationMode::kFullRemap ||
+         m == RegistrationMode::kClassesNoDegeneracy;
 }
-constexpr bool UsesDegeneracyWeights(RegistrationMode m) { return m == RegistrationMode::kFull; }
+constexpr bool UsesDegeneracyWeights(RegistrationMode m) {
+  return m == RegistrationMode::kFullRemap;
+}
+constexpr bool UsesMotionPrior(RegistrationMode m) { return m == RegistrationMode::kFull; }
 
 }  // namespace dammloam

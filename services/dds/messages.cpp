@@ -27,7 +27,7 @@ dammloam_msg_Odometry ToMsgOdometry(const OdometryResult& result, const std::str
   msg.scan_index = result.scan_index;
   msg.pose = ToMsgPose(result.T_world_sensor);
   for (int r = 0; r < 6; ++r) {
-    for (int c = 0; c < 6; ++c) msg.covariance[6 * r + c] = result.covariance(r, c);
+    for (int c = 0; c < 6; ++c) msg.covariance[6 * r + c] = result.pose_covariance(r, c);
   }
   msg.linear_velocity = {result.velocity(0), result.velocity(1), result.velocity(2)};
   msg.angular_velocity = {result.velocity(3), result.velocity(4), result.velocity(5)};

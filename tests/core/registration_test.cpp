@@ -156,6 +156,7 @@ TEST(Registration, PointPairsCannotDragTheDegenerateAxis) {
   const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.02, 0.0, 0.0, 0.0);
   for (const bool weighted : {true, false}) {
     RegistrationConfig config;
+    config.mode = RegistrationMode::kFullRemap;  // the paper's weighting
     config.weight_point_residuals = weighted;
     config.remap_degenerate_directions = false;  // the weighting alone is under test
     const RegistrationResult r =
@@ -171,6 +172,64 @@ TEST(Registration, PointPairsCannotDragTheDegenerateAxis) {
       EXPECT_GT(std::abs(t.x() - 0.4), 0.03);  // what the weighting prevents
     }
   }
+}
+
+// Full mode with its motion prior, same corridor: the corner lines continue along the axis, so
+// their point pairs lose their axis component, and the prior keeps the predicted position
+// there; across the corridor the data wins over the prior by far.
+TEST(Registration, FullModeKeepsThePriorAlongACorridorOfCornerLines) {
+  auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
+  test::LabelledCloud map_cloud = corridor;
+  test::LabelledCloud scan_world = corridor;
+  for (double x = -30.0; x <= 30.0; x += 0.3) {
+    for (const auto& [y, z] : {std::pair{-1.2, -1.0}, {1.2, -1.0}, {-1.2, 1.8}, {1.2, 1.8}}) {
+      map_cloud.Add({x, y, z}, PointClass::Edge, {0, 0, 0});
+      scan_world.Add({x + 0.1, y, z}, PointClass::Edge, {0, 0, 0});
+    }
+  }
+  const VoxelHashMap map = MapOf(map_cloud);
+  const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.05, 0.0, 0.0, 0.0, 0.01);
+  const auto source = scan_world.Transformed(T_true.inverse());
+  const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.02, 0.0, 0.0, 0.0);
+  MotionPrior prior;
+  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
+  prior.rotation_sigma = 0.05;
+  const RegistrationResult r =
+      RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, RegistrationConfig{}, prior);
+  ASSERT_TRUE(r.enough_correspondences);
+  const Eigen::Vector3d t = r.T_world_sensor.translation();
+  EXPECT_NEAR(t.x(), 0.4, 0.01);
+  EXPECT_NEAR(t.y(), 0.05, 2e-3);
+  EXPECT_NEAR(t.z(), 0.0, 2e-3);
+  // The pose is uncertain along the corridor (the prior's 2 cm) and certain across it.
+  EXPECT_GT(r.covariance(0, 0), 50.0 * r.covariance(1, 1));
+}
+
+// Full mode: an end wall only a few points large, facing the axis, still moves the estimate
+// along it against the prior (what a door jamb or a far end wall does in a real corridor).
+TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
+  auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
+  test::LabelledCloud map_cloud = corridor;
+  test::LabelledCloud scan_world = corridor;
+  for (double y = -0.3; y <= 0.3; y += 0.15) {
+    for (double z = -0.2; z <= 0.2; z += 0.2) {
+      map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+      scan_world.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+    }
+  }
+  const VoxelHashMap map = MapOf(map_cloud);
+  const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const auto source = scan_world.Transformed(T_true.inverse());
+  const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);  // 5 cm short
+  MotionPrior prior;
+  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
+  prior.rotation_sigma = 0.05;
+  const RegistrationResult r =
+      RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, RegistrationConfig{}, prior);
+  ASSERT_TRUE(r.enough_correspondences);
+  EXPECT_TRUE(r.degeneracy.AnyDegenerate());
+  // 15 points with 2 cm residual noise outweigh a 2 cm prior 15 to 1.
+  EXPECT_NEAR(r.T_world_sensor.translation().x(), 0.4, 0.006);
 }
 
 class KnownMotion : public ::testing::TestWithParam<RegistrationMode> {};
@@ -194,7 +253,8 @@ TEST_P(KnownMotion, RecoversRigidMotionInAClosedRoom) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, KnownMotion,
-                         ::testing::Values(RegistrationMode::kFull, RegistrationMode::kPlaneOnly,
+                         ::testing::Values(RegistrationMode::kFull, RegistrationMode::kFullRemap,
+                                           RegistrationMode::kPlaneOnly,
                                            RegistrationMode::kClassesNoDegeneracy,
                                            RegistrationMode::kPointToPoint),
                          [](const auto& info) { return std::string(Name(info.param)); });
@@ -219,8 +279,9 @@ TEST(Registration, EmptyMapReportsTooFewCorrespondences) {
 }
 
 TEST(RegistrationMode, NamesRoundTrip) {
-  for (auto m : {RegistrationMode::kFull, RegistrationMode::kPointToPoint,
-                 RegistrationMode::kPlaneOnly, RegistrationMode::kClassesNoDegeneracy}) {
+  for (auto m : {RegistrationMode::kFull, RegistrationMode::kFullRemap,
+                 RegistrationMode::kPointToPoint, RegistrationMode::kPlaneOnly,
+                 RegistrationMode::kClassesNoDegeneracy}) {
     EXPECT_EQ(ParseRegistrationMode(Name(m)), m);
   }
   EXPECT_FALSE(ParseRegistrationMode("icp").has_value());

@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
   int scans = 100;
   std::vector<std::string> scenes{"corridor", "zigzag", "outdoor"};
   std::vector<std::string> sensors{"os1-64", "vlp-16"};
-  std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy", "full"};
+  std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy",
+                                 "full_remap", "full"};
   std::string json_path;
   std::string config_path;
   app.add_option("--config", config_path, "odometry YAML config (the mode is overridden)");

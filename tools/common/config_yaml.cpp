@@ -138,8 +138,19 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("unknown_defers_to_map", c.unknown_defers_to_map);
   s.Get("weight_point_residuals", c.weight_point_residuals);
   s.Get("weight_always", c.weight_always);
+  s.Get("strong_normal_cosine", c.strong_normal_cosine);
+  s.Get("weak_eigenvalue_ratio", c.weak_eigenvalue_ratio);
+  s.Get("residual_sigma", c.residual_sigma);
   s.Get("min_correspondences", c.min_correspondences);
   s.Get("covariance_regularisation", c.covariance_regularisation);
+  s.RejectUnknownKeys();
+}
+
+void ReadMotionPrior(Section s, OdometryConfig& c) {
+  s.Get("acceleration", c.motion_prior.acceleration);
+  s.Get("speed_change", c.motion_prior.speed_change);
+  s.Get("max_speed_sigma", c.motion_prior.max_speed_sigma);
+  s.Get("angular_acceleration", c.max_angular_acceleration);
   s.RejectUnknownKeys();
 }
 
@@ -156,6 +167,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadDownsample(s.Child("downsample"), config.downsample);
   ReadMap(s.Child("map"), config.map);
   ReadRegistration(s.Child("registration"), config.registration);
+  ReadMotionPrior(s.Child("motion_prior"), config);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
   s.Get("min_points", config.min_points);
@@ -239,6 +251,16 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(r.min_correspondences >= 6, "registration.min_correspondences", "must be >= 6");
   Require(r.covariance_regularisation >= 0.0, "registration.covariance_regularisation",
           "must be >= 0");
+  Require(r.strong_normal_cosine >= 0.0 && r.strong_normal_cosine <= 1.0,
+          "registration.strong_normal_cosine", "must be in [0, 1]");
+  Require(r.weak_eigenvalue_ratio >= 0.0 && r.weak_eigenvalue_ratio < 1.0,
+          "registration.weak_eigenvalue_ratio", "must be in [0, 1)");
+  Require(r.residual_sigma > 0.0, "registration.residual_sigma", "must be > 0");
+  const auto& mp = c.motion_prior;
+  Require(mp.acceleration > 0.0, "motion_prior.acceleration", "must be > 0");
+  Require(mp.speed_change > 0.0, "motion_prior.speed_change", "must be > 0");
+  Require(mp.max_speed_sigma > 0.0, "motion_prior.max_speed_sigma", "must be > 0");
+  Require(c.max_angular_acceleration > 0.0, "motion_prior.angular_acceleration", "must be > 0");
   Require(c.map_frame_voxel_factor > 0.0, "map_frame_voxel_factor", "must be > 0");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");

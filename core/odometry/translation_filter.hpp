@@ -1,0 +1,45 @@
+#pragma once
+#include <Eigen/Core>
+
+namespace dammloam {
+
+// Position and velocity of the sensor in the world frame as a constant-velocity Kalman filter
+// whose position measurements are the scan registrations. It answers two questions of full
+// mode: how much to trust the predicted position (the prior's information, which grows weak
+// along a direction the scans have not seen for a while) and how much of a registration's
+// departure from the prediction is a change of speed. Along a direction the scans observe
+// well that is all of it, as the plain frame-to-frame velocity; along a weak one only a
+// fraction, so the speed is averaged over the scans that saw it.
+class TranslationFilter {
+ public:
+  struct Config {
+    // Short-term departure from constant velocity (a walking gait: +-15 % of the speed twice
+    // a second): position noise of acceleration * dt^2 per scan, m/s^2.
+    double acceleration = 2.0;
+    // Sustained change of the mean speed (slowing, stopping, setting off), m/s^2: the
+    // velocity's random walk.
+    double speed_change = 0.5;
+    // Velocity uncertainty at the start and after a reset, and its cap: a carrier's speed
+    // varies within this much, however long the scans stay blind (m/s).
+    double max_speed_sigma = 1.0;
+  };
+
+  explicit TranslationFilter(const Config& config);
+
+  // Velocity unknown (start, time gap).
+  void Reset();
+  // Covariance of the predicted position after dt seconds; the prior for registration.
+  Eigen::Matrix3d Predict(double dt);
+  // The velocity after a registration moved the position by `innovation` from the prediction,
+  // with `data_information` the scan's own information on the position (without the prior).
+  Eigen::Vector3d Update(const Eigen::Vector3d& predicted_velocity,
+                         const Eigen::Vector3d& innovation,
+                         const Eigen::Matrix3d& data_information);
+
+ private:
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  Config config_;
+  Matrix6 P_ = Matrix6::Zero();  // [position; velocity], world frame
+};
+
+}  // namespace dammloam
