@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/odometry/pipeline.hpp"
@@ -75,6 +76,40 @@ TEST(OdometryIntegration, LongSparseCorridorDoesNotCollapseToStandstill) {
   EXPECT_EQ(full.registered, seq.scans.size());
   EXPECT_LT(full.ape_rmse, 1.5) << "full APE RMSE";
   EXPECT_GT(p2p.ape_rmse, 5.0 * full.ape_rmse) << "point-to-point APE RMSE";
+}
+
+// Honest uncertainty: in the featureless corridor the pose's covariance along the corridor axis
+// (world x) grows scan by scan while the axis stays weak, and stays small across it, where the
+// walls hold the pose.
+TEST(OdometryIntegration, PoseCovarianceGrowsAlongTheWeakAxisWhileItIsWeak) {
+  const auto seq = GenerateSequence(sim::SceneKind::Corridor, sim::Vlp16(), 160);
+  const auto run = RunPipeline(seq, WithMode(RegistrationMode::kFull));
+  ASSERT_EQ(run.registered, seq.scans.size());
+  // The longest stretch of consecutive scans whose weak direction is the axis.
+  std::size_t best_begin = 0, best_length = 0, begin = 0;
+  auto weak_along_axis = [&](const OdometryResult& r) {
+    const DegeneracyReport& d = r.degeneracy;
+    for (int i = 0; i < 3; ++i) {
+      if (d.degenerate[static_cast<std::size_t>(i)] && std::abs(d.eigenvectors(0, i)) > 0.9) {
+        return true;
+      }
+    }
+    return false;
+  };
+  for (std::size_t i = 1; i < run.results.size(); ++i) {
+    if (!weak_along_axis(run.results[i])) {
+      begin = i + 1;
+    } else if (i + 1 - begin > best_length) {
+      best_begin = begin;
+      best_length = i + 1 - begin;
+    }
+  }
+  ASSERT_GE(best_length, 40u) << "the corridor axis should stay weak for a while";
+  const Matrix6d& early = run.results[best_begin + 5].pose_covariance;
+  const Matrix6d& late = run.results[best_begin + best_length - 1].pose_covariance;
+  EXPECT_GT(late(0, 0), 4.0 * early(0, 0)) << "axis variance did not grow while weak";
+  EXPECT_GT(late(0, 0), 100.0 * late(1, 1)) << "axis not the uncertain direction";
+  EXPECT_LT(std::sqrt(late(1, 1)), 0.01) << "the walls should hold the pose across";
 }
 
 // Memory stays flat on a long drive: the map is cropped to max_distance around the sensor, so
