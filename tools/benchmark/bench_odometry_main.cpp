@@ -1,143 +1,727 @@
-// dammloam-bench-odometry: accuracy and per-stage speed of the front end on simulated
-// sequences, with the ablation (point-to-point, plane only, classes without degeneracy
-// weights, full) in the same run so ratios are measured under the same machine load.
+// dammloam-bench-odometry: accuracy and per-stage speed of the front end on full-length
+// simulated runs (the realistic presets, several seeds), with the ablation (point-to-point,
+// plane only, classes without degeneracy weights, full with remapping, full) and optional peer
+// odometry runners in the same run. Every scan is simulated once and fed to one pipeline per
+// mode in turn, so all modes see identical scans under the same machine load and nothing but
+// per-scan results is kept in memory.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "tools/benchmark/sim_run.hpp"
 #include "tools/common/config_yaml.hpp"
+#include "tools/common/sequence_io.hpp"
+#include "tools/simulate/presets.hpp"
+
+extern char** environ;
 
 namespace {
 
-using dammloam::RegistrationMode;
-using dammloam::bench::Percentiles;
-using dammloam::bench::RunSummary;
+namespace fs = std::filesystem;
+using namespace dammloam;
+using bench::Percentiles;
 
-nlohmann::json ToJson(const Percentiles& p) { return {{"median", p.median}, {"p95", p.p95}}; }
+// ---------------------------------------------------------------------------------------------
+// Command line
 
-nlohmann::json ToJson(const RunSummary& s) {
-  return {{"mode", s.mode},
-          {"ape_rmse_m", s.ape_rmse},
-          {"rpe_rmse_m", s.rpe_rmse},
-          {"registered", s.registered},
-          {"median_iterations", s.median_iterations},
-          {"degenerate_share", s.degenerate_share},
-          {"ms",
-           {{"features", ToJson(s.features_ms)},
-            {"projection", ToJson(s.projection_ms)},
-            {"normals", ToJson(s.normals_ms)},
-            {"classification", ToJson(s.classification_ms)},
-            {"deskew", ToJson(s.deskew_ms)},
-            {"downsample", ToJson(s.downsample_ms)},
-            {"registration", ToJson(s.registration_ms)},
-            {"map_update", ToJson(s.map_update_ms)},
-            {"total", ToJson(s.total_ms)}}}};
+struct Peer {
+  std::string name;
+  std::string path;
+  std::vector<std::string> args;  // appended after the fixed command line
+};
+
+// "NAME=PATH" or "NAME=PATH:ARG1,ARG2".
+std::optional<Peer> ParsePeer(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) return std::nullopt;
+  Peer peer;
+  peer.name = text.substr(0, eq);
+  std::string rest = text.substr(eq + 1);
+  const auto colon = rest.find(':');
+  peer.path = rest.substr(0, colon);
+  if (colon != std::string::npos) {
+    std::stringstream args(rest.substr(colon + 1));
+    for (std::string arg; std::getline(args, arg, ',');) {
+      if (!arg.empty()) peer.args.push_back(arg);
+    }
+  }
+  if (peer.path.empty()) return std::nullopt;
+  return peer;
 }
 
-void PrintRow(const RunSummary& s, const RunSummary& baseline) {
-  std::printf("  %-22s APE %7.3f  RPE %6.3f  | ms med/p95: feat %5.1f/%5.1f (%.1f+%.1f+%.1f)  "
-              "reg %5.1f/%5.1f  map %4.1f  total %5.1f/%5.1f (x%.2f of p2p)  it %.0f  degen %3.0f%%\n",
-              s.mode.c_str(), s.ape_rmse, s.rpe_rmse, s.features_ms.median, s.features_ms.p95,
-              s.projection_ms.median, s.normals_ms.median, s.classification_ms.median,
-              s.registration_ms.median, s.registration_ms.p95, s.map_update_ms.median,
-              s.total_ms.median, s.total_ms.p95,
-              baseline.total_ms.median > 0 ? s.total_ms.median / baseline.total_ms.median : 0.0,
-              s.median_iterations, 100.0 * s.degenerate_share);
+struct Options {
+  std::vector<std::string> presets{"handheld-corridor", "wheeled-corridor", "legged-tunnel",
+                                   "wheeled-zigzag"};
+  std::vector<std::string> scenes;  // legacy: constant-speed scenes, --scans each
+  std::vector<std::string> sensors{"os1-64", "vlp-16"};
+  std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy",
+                                 "full_remap", "full"};
+  std::vector<std::uint64_t> seeds;
+  std::uint64_t seed = 1;
+  std::optional<int> scans;
+  std::vector<std::string> peer_specs;
+  std::vector<Peer> peers;
+  std::string cache_dir;
+  std::string json_path;
+  std::string config_path;
+  bool per_scan = false;
+  bool no_remap = false;
+  bool quiet = false;
+};
+
+// One row group: a preset (or legacy scene) on one sensor.
+struct Group {
+  std::string label;        // preset or scene name
+  bool preset = false;
+  sim::Preset preset_def;   // when preset
+  sim::SceneKind scene = sim::SceneKind::Corridor;
+  sim::SensorSpec sensor;
+  int scans = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Results
+
+// One mode or peer on one seed: accuracy and the per-scan samples that get pooled over seeds.
+struct SeedResult {
+  std::uint64_t seed = 0;
+  std::size_t scans = 0;
+  bench::TrajectoryErrors errors;
+  std::vector<double> features_ms, registration_ms, map_update_ms, total_ms, iterations, map_points;
+  std::size_t registered = 0;
+  std::size_t degenerate = 0;
+  std::string failure;  // peers: why the run gave no result
+};
+
+struct Row {
+  std::string name;
+  bool peer = false;
+  std::vector<SeedResult> seeds;
+};
+
+struct GroupResult {
+  Group group;
+  std::vector<Row> rows;  // modes first, then peers
+  // VmRSS after the last scan with every mode's pipeline alive (max over seeds); VmHWM so far.
+  double rss_end_mib = 0.0, rss_peak_mib = 0.0;
+  double sim_ms_per_scan = 0.0;  // median over seeds of the time to produce a scan
+  bool from_cache = false;
+};
+
+// The middle value, or the mean of the two middle values of an even count (as evo's median).
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t mid = v.size() / 2;
+  return v.size() % 2 == 1 ? v[mid] : 0.5 * (v[mid - 1] + v[mid]);
+}
+
+std::vector<double> Pool(const Row& row, std::vector<double> SeedResult::*field) {
+  std::vector<double> all;
+  for (const SeedResult& s : row.seeds) all.insert(all.end(), (s.*field).begin(), (s.*field).end());
+  return all;
+}
+
+struct Aggregate {
+  std::size_t seeds = 0;  // seeds with a result
+  double ape_rmse_median = 0, ape_rmse_min = 0, ape_rmse_max = 0, ape_max = 0;
+  double rpe_rmse_median = 0;
+  double worst_frame_m = 0, median_frame_m = 0, worst_ratio = 0;
+  std::uint64_t worst_frame_seed = 0;
+  std::size_t worst_frame_index = 0;
+  Percentiles features, registration, map_update, total;
+  double iterations_median = 0, map_median = 0, map_max = 0;
+  double degenerate_share = 0, registered_share = 0;
+};
+
+Aggregate Summarise(const Row& row) {
+  Aggregate a;
+  std::vector<double> ape_rmse, rpe_rmse, frames;
+  std::size_t scans = 0, degenerate = 0, registered = 0;
+  for (const SeedResult& s : row.seeds) {
+    if (!s.failure.empty()) continue;
+    ++a.seeds;
+    ape_rmse.push_back(s.errors.ape_rmse);
+    rpe_rmse.push_back(s.errors.rpe_rmse);
+    a.ape_max = std::max(a.ape_max, s.errors.ape_max);
+    if (s.errors.worst_frame_m >= a.worst_frame_m) {
+      a.worst_frame_m = s.errors.worst_frame_m;
+      a.worst_frame_seed = s.seed;
+      a.worst_frame_index = s.errors.worst_frame_index;
+    }
+    frames.insert(frames.end(), s.errors.frame_errors.begin(), s.errors.frame_errors.end());
+    scans += s.scans;
+    degenerate += s.degenerate;
+    registered += s.registered;
+  }
+  if (a.seeds == 0) return a;
+  a.ape_rmse_median = Median(ape_rmse);
+  a.ape_rmse_min = *std::min_element(ape_rmse.begin(), ape_rmse.end());
+  a.ape_rmse_max = *std::max_element(ape_rmse.begin(), ape_rmse.end());
+  a.rpe_rmse_median = Median(rpe_rmse);
+  a.median_frame_m = Median(frames);
+  a.worst_ratio = a.median_frame_m > 0 ? a.worst_frame_m / a.median_frame_m : 0.0;
+  a.features = bench::ComputePercentiles(Pool(row, &SeedResult::features_ms));
+  a.registration = bench::ComputePercentiles(Pool(row, &SeedResult::registration_ms));
+  a.map_update = bench::ComputePercentiles(Pool(row, &SeedResult::map_update_ms));
+  a.total = bench::ComputePercentiles(Pool(row, &SeedResult::total_ms));
+  a.iterations_median = Median(Pool(row, &SeedResult::iterations));
+  const Percentiles map = bench::ComputePercentiles(Pool(row, &SeedResult::map_points));
+  a.map_median = map.median;
+  a.map_max = map.max;
+  a.degenerate_share = scans ? static_cast<double>(degenerate) / static_cast<double>(scans) : 0.0;
+  a.registered_share = scans ? static_cast<double>(registered) / static_cast<double>(scans) : 0.0;
+  return a;
+}
+
+SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const bench::ModeTrace& trace) {
+  SeedResult r;
+  r.seed = seed;
+  r.scans = trace.scans.size();
+  r.errors = bench::EvaluateEstimate(stream.ground_truth, trace.Estimate());
+  for (const bench::ScanRecord& s : trace.scans) {
+    const StageTimings& t = s.timings;
+    r.features_ms.push_back(t.projection_ms + t.normals_ms + t.classification_ms);
+    r.registration_ms.push_back(t.registration_ms);
+    r.map_update_ms.push_back(t.map_update_ms);
+    r.total_ms.push_back(t.total_ms);
+    r.iterations.push_back(s.iterations);
+    r.map_points.push_back(static_cast<double>(s.map_points));
+    if (Registered(s.status)) ++r.registered;
+    if (s.degenerate) ++r.degenerate;
+  }
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Peers
+
+// Runs argv with stdout and stderr to `log`; returns the exit code (-1: not started / signal).
+int RunProcess(const std::vector<std::string>& argv, const fs::path& log) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (err != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<double> ReadTimingCsv(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  std::vector<double> ms;
+  for (std::string line; std::getline(in, line);) {
+    char* end = nullptr;
+    const double v = std::strtod(line.c_str(), &end);
+    if (end != line.c_str()) ms.push_back(v);  // blank lines and headers are skipped
+  }
+  return ms;
+}
+
+std::string Tail(const fs::path& file, std::size_t max_chars = 600) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string s = ss.str();
+  return s.size() > max_chars ? "..." + s.substr(s.size() - max_chars) : s;
+}
+
+SeedResult RunPeer(const Peer& peer, std::uint64_t seed, const fs::path& sequence,
+                   const std::vector<io::StampedPose>& ground_truth, const fs::path& work) {
+  SeedResult r;
+  r.seed = seed;
+  const fs::path poses = work / (peer.name + ".tum");
+  const fs::path timing = work / (peer.name + ".timing.csv");
+  const fs::path log = work / (peer.name + ".log");
+  std::vector<std::string> argv{peer.path, sequence.string(), "--out", poses.string(),
+                                "--timing", timing.string(), "--quiet"};
+  argv.insert(argv.end(), peer.args.begin(), peer.args.end());
+  const int code = RunProcess(argv, log);
+  try {
+    if (code != 0) {
+      throw std::runtime_error("exit code " + std::to_string(code) + ": " + Tail(log));
+    }
+    const std::vector<io::StampedPose> estimate = io::ReadTum(poses);
+    r.scans = estimate.size();
+    r.registered = estimate.size();
+    r.errors = bench::EvaluateEstimate(ground_truth, estimate);
+    r.total_ms = ReadTimingCsv(timing);
+  } catch (const std::exception& e) {
+    r.failure = e.what();
+    std::fprintf(stderr, "warning: peer %s, seed %llu: %s\n", peer.name.c_str(),
+                 static_cast<unsigned long long>(seed), r.failure.c_str());
+  }
+  return r;
+}
+
+// A temporary directory removed when this goes out of scope.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (fs::temp_directory_path() / "dammloam-bench-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary directory");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Running a group
+
+// Frame-to-frame motion error per scan, to see where tracking goes wrong.
+void PrintPerScan(const bench::ScanStream& stream, const bench::ModeTrace& run) {
+  std::printf("  per scan, %s:\n", run.mode.c_str());
+  for (std::size_t i = 1; i < run.scans.size(); ++i) {
+    const bench::ScanRecord& r = run.scans[i];
+    const Eigen::Isometry3d gt = stream.ground_truth[i - 1].T.inverse() * stream.ground_truth[i].T;
+    const Eigen::Isometry3d est = run.scans[i - 1].T_world_sensor.inverse() * r.T_world_sensor;
+    const Eigen::Vector3d e = (gt.inverse() * est).translation();
+    std::printf("    %4zu %-12s it %2d corr %5u alpha %.2f  gt dt (%6.3f %6.3f %6.3f)  err (%6.3f "
+                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f) classes u%u g%u r%u w%u e%u\n",
+                i, std::string(Name(r.status)).c_str(), r.iterations, r.num_correspondences, r.alpha,
+                gt.translation().x(), gt.translation().y(), gt.translation().z(), e.x(), e.y(), e.z(),
+                r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2], r.class_counts[0],
+                r.class_counts[1], r.class_counts[2], r.class_counts[3], r.class_counts[4]);
+  }
+}
+
+std::unique_ptr<sim::Simulator> MakeSimulator(const Group& g, std::uint64_t seed) {
+  if (g.preset) return std::make_unique<sim::Simulator>(g.preset_def, g.sensor, seed);
+  sim::SimOptions options;
+  options.seed = seed;
+  options.num_scans = g.scans;
+  return std::make_unique<sim::Simulator>(g.scene, g.sensor, options);
+}
+
+// Cache entry of one seed: complete when it has `scans` scans and gt.tum (written last).
+fs::path CachePath(const Options& o, const Group& g, std::uint64_t seed) {
+  return fs::path(o.cache_dir) / (g.label + "_" + g.sensor.name + "_seed" + std::to_string(seed) + "_" +
+                                  std::to_string(g.scans) + "scans");
+}
+
+bool CacheComplete(const fs::path& dir, int scans) {
+  try {
+    const auto reader = io::SequenceReader::Open(dir);
+    const auto gt = reader.ReadGroundTruth();
+    return reader.size() == static_cast<std::size_t>(scans) && gt && gt->size() == reader.size();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+GroupResult RunGroup(const Options& o, const Group& g, const std::vector<OdometryConfig>& configs) {
+  GroupResult result;
+  result.group = g;
+  for (const OdometryConfig& c : configs) result.rows.push_back({std::string(Name(c.registration.mode)), false, {}});
+  for (const Peer& p : o.peers) result.rows.push_back({p.name, true, {}});
+  std::vector<double> sim_ms;
+  for (const std::uint64_t seed : o.seeds) {
+    const auto seed_start = std::chrono::steady_clock::now();
+    std::optional<TempDir> work;
+    if (!o.peers.empty()) work.emplace();
+    fs::path sequence_dir;  // on disk when peers or the cache need it
+    std::unique_ptr<sim::Simulator> simulator;
+    bench::ScanStream stream;
+    std::unique_ptr<io::SequenceWriter> writer;
+    if (!o.cache_dir.empty()) {
+      sequence_dir = CachePath(o, g, seed);
+      if (CacheComplete(sequence_dir, g.scans)) {
+        stream = bench::SequenceStream(sequence_dir.string());
+        result.from_cache = true;
+      }
+    } else if (work) {
+      sequence_dir = work->path() / "sequence";
+    }
+    if (!stream.scan) {
+      simulator = MakeSimulator(g, seed);
+      stream = bench::SimulatedStream(*simulator, g.scans);
+      if (!sequence_dir.empty()) {
+        writer = std::make_unique<io::SequenceWriter>(
+            sequence_dir, io::SequenceMeta{g.sensor.name, stream.model, io::PointLayout::kXYZITR},
+            /*overwrite=*/true);
+      }
+    }
+    // Time spent producing scans (simulating or reading) = wall time minus the pipelines'.
+    double produce_ms = 0.0;
+    auto timed_stream = stream;
+    timed_stream.scan = [&stream, &produce_ms](std::size_t i) {
+      const auto start = std::chrono::steady_clock::now();
+      Scan scan = stream.scan(i);
+      produce_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      return scan;
+    };
+    const auto on_scan = [&writer](const Scan& scan) {
+      if (writer) writer->Write(scan);
+    };
+    const std::size_t step = std::max<std::size_t>(100, stream.size() / 8);
+    const auto progress = [&](std::size_t done) {
+      // All pipelines (maps, filters) are still alive after the last scan: the process's RSS now.
+      if (done == stream.size()) result.rss_end_mib = std::max(result.rss_end_mib, bench::ProcStatusMiB("VmRSS"));
+      if (o.quiet || (done % step != 0 && done != stream.size())) return;
+      std::fprintf(stderr, "  %s / %s seed %llu: %zu/%zu scans, %.0f s\n", g.label.c_str(),
+                   g.sensor.name.c_str(), static_cast<unsigned long long>(seed), done, stream.size(),
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - seed_start).count());
+    };
+    const std::vector<bench::ModeTrace> traces = bench::StreamModes(timed_stream, configs, on_scan, progress);
+    if (writer) writer->WriteGroundTruth(stream.ground_truth);
+    sim_ms.push_back(stream.size() ? produce_ms / static_cast<double>(stream.size()) : 0.0);
+    for (std::size_t m = 0; m < traces.size(); ++m) {
+      if (o.per_scan) PrintPerScan(stream, traces[m]);
+      result.rows[m].seeds.push_back(FromTrace(seed, stream, traces[m]));
+    }
+    for (std::size_t p = 0; p < o.peers.size(); ++p) {
+      if (!o.quiet) std::fprintf(stderr, "  running peer %s on seed %llu\n", o.peers[p].name.c_str(),
+                                 static_cast<unsigned long long>(seed));
+      result.rows[traces.size() + p].seeds.push_back(
+          RunPeer(o.peers[p], seed, sequence_dir, stream.ground_truth, work->path()));
+    }
+  }
+  result.sim_ms_per_scan = Median(sim_ms);
+  // VmHWM lags the split per-thread RSS counters slightly: never report it below the RSS seen.
+  result.rss_peak_mib = std::max(bench::ProcStatusMiB("VmHWM"), result.rss_end_mib);
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+std::string Kilo(double n) {
+  char buf[32];
+  if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.1fM", n / 1e6);
+  else if (n >= 1e3) std::snprintf(buf, sizeof buf, "%.0fk", n / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f", n);
+  return buf;
+}
+
+std::string SeedList(const std::vector<std::uint64_t>& seeds) {
+  std::string s;
+  for (const auto seed : seeds) s += (s.empty() ? "" : ",") + std::to_string(seed);
+  return s;
+}
+
+void PrintGroup(const Options& o, const GroupResult& r) {
+  const Group& g = r.group;
+  std::printf("\n%s / %s: %d scans x seeds %s (%s %.1f ms/scan), RSS at end %.0f MiB (peak %.0f), all modes\n",
+              g.label.c_str(), g.sensor.name.c_str(), g.scans, SeedList(o.seeds).c_str(),
+              r.from_cache ? "read from cache" : "simulated", r.sim_ms_per_scan, r.rss_end_mib,
+              r.rss_peak_mib);
+  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %9s %5s\n", "mode",
+              "APE", "APEmax", "APE spread", "RPE", "worst frame", "feat ms", "reg ms", "map ms",
+              "total ms", "x base", "it", "map pts", "degen");
+  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %9s %5s\n", "",
+              "med m", "m", "min-max m", "med m", "m (x median)", "med/p99", "med/p99", "med/p99",
+              "med/p99", "", "med", "med/max", "");
+  const Aggregate baseline = Summarise(r.rows.front());
+  // Peers are compared with our full mode, or the last mode when full is not run.
+  std::optional<Aggregate> full;
+  std::string full_name;
+  for (const Row& row : r.rows) {
+    if (!row.peer && (row.name == "full" || full_name != "full")) {
+      full = Summarise(row);
+      full_name = row.name;
+    }
+  }
+  for (const Row& row : r.rows) {
+    const Aggregate a = Summarise(row);
+    const std::string name = row.peer ? row.name + " (peer)" : row.name;
+    if (a.seeds == 0) {
+      std::printf("  %-22s no result (see warnings)\n", name.c_str());
+      continue;
+    }
+    char spread[32], worst[32];
+    std::snprintf(spread, sizeof spread, "%.3f-%.3f", a.ape_rmse_min, a.ape_rmse_max);
+    std::snprintf(worst, sizeof worst, "%.3f (x%.0f)", a.worst_frame_m, a.worst_ratio);
+    std::printf("  %-22s %6.3f %6.3f %13s %6.3f %14s | ", name.c_str(), a.ape_rmse_median, a.ape_max,
+                spread, a.rpe_rmse_median, worst);
+    if (row.peer) {
+      const double ratio = a.total.median > 0 && full ? full->total.median / a.total.median : 0.0;
+      std::printf("%-11s %-11s %-11s %5.1f/%-5.1f x%5.2f | %s/peer x%.2f%s\n", "", "", "", a.total.median,
+                  a.total.p99,
+                  baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
+                  full_name.c_str(), ratio, a.seeds < o.seeds.size() ? " (some seeds failed)" : "");
+    } else {
+      std::printf("%4.1f/%-6.1f %4.1f/%-6.1f %4.1f/%-6.1f %5.1f/%-5.1f x%5.2f | %3.0f %4s/%-4s %4.0f%%\n",
+                  a.features.median, a.features.p99, a.registration.median, a.registration.p99,
+                  a.map_update.median, a.map_update.p99, a.total.median, a.total.p99,
+                  baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
+                  a.iterations_median, Kilo(a.map_median).c_str(), Kilo(a.map_max).c_str(),
+                  100.0 * a.degenerate_share);
+    }
+  }
   std::fflush(stdout);
 }
 
-// Frame-to-frame motion error per scan, to see where tracking goes wrong.
-void PrintPerScan(const dammloam::bench::SimSequence& seq, const RunSummary& run) {
-  for (std::size_t i = 1; i < run.results.size(); ++i) {
-    const auto& r = run.results[i];
-    const Eigen::Isometry3d gt = seq.ground_truth[i - 1].T.inverse() * seq.ground_truth[i].T;
-    const Eigen::Isometry3d est = run.estimate[i - 1].T.inverse() * run.estimate[i].T;
-    const Eigen::Vector3d e = (gt.inverse() * est).translation();
-    std::printf("    %3zu %-12s it %2d corr %5u alpha %.2f  gt dt (%6.3f %6.3f %6.3f)  err (%6.3f "
-                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f) classes u%u g%u r%u w%u e%u\n",
-                i, std::string(dammloam::Name(r.status)).c_str(), r.iterations,
-                r.num_correspondences, r.alpha, gt.translation().x(), gt.translation().y(),
-                gt.translation().z(), e.x(), e.y(), e.z(), r.degeneracy.eigenvalues[0],
-                r.degeneracy.eigenvalues[1], r.degeneracy.eigenvalues[2], r.class_counts[0],
-                r.class_counts[1], r.class_counts[2], r.class_counts[3], r.class_counts[4]);
+nlohmann::json ToJson(const Percentiles& p) {
+  return {{"median", p.median}, {"p95", p.p95}, {"p99", p.p99}, {"max", p.max}};
+}
+
+nlohmann::json ToJson(const SeedResult& s) {
+  nlohmann::json j{{"seed", s.seed}, {"scans", s.scans}};
+  if (!s.failure.empty()) {
+    j["failure"] = s.failure;
+    return j;
   }
+  j["ape_rmse_m"] = s.errors.ape_rmse;
+  j["ape_max_m"] = s.errors.ape_max;
+  j["rpe_rmse_m"] = s.errors.rpe_rmse;
+  j["drift_percent"] = s.errors.drift_percent;
+  j["median_frame_m"] = s.errors.median_frame_m;
+  j["worst_frame_m"] = s.errors.worst_frame_m;
+  j["worst_frame_index"] = s.errors.worst_frame_index;
+  j["pairs"] = s.errors.pairs;
+  j["registered"] = s.registered;
+  j["degenerate"] = s.degenerate;
+  j["total_ms"] = ToJson(bench::ComputePercentiles(s.total_ms));
+  return j;
+}
+
+nlohmann::json ToJson(const GroupResult& r, const Options& o) {
+  const Group& g = r.group;
+  nlohmann::json j{{g.preset ? "preset" : "scene", g.label},
+                   {"scene", std::string(sim::SceneName(g.preset ? g.preset_def.scene : g.scene))},
+                   {"sensor", g.sensor.name},
+                   {"scans", g.scans},
+                   {"seeds", o.seeds},
+                   {"from_cache", r.from_cache},
+                   {"produce_ms_per_scan", r.sim_ms_per_scan},
+                   {"rss_end_mib", r.rss_end_mib},
+                   {"rss_peak_mib", r.rss_peak_mib}};
+  if (g.preset) j["motion"] = std::string(sim::MotionName(g.preset_def.motion));
+  std::optional<double> full_ms;
+  for (const Row& row : r.rows) {
+    if (!row.peer && row.name == "full") full_ms = Summarise(row).total.median;
+  }
+  for (const Row& row : r.rows) {
+    const Aggregate a = Summarise(row);
+    nlohmann::json e{{"name", row.name},
+                     {"seeds_ok", a.seeds},
+                     {"ape_rmse_m", {{"median", a.ape_rmse_median}, {"min", a.ape_rmse_min}, {"max", a.ape_rmse_max}}},
+                     {"ape_max_m", a.ape_max},
+                     {"rpe_rmse_median_m", a.rpe_rmse_median},
+                     {"worst_frame_m", a.worst_frame_m},
+                     {"worst_frame_seed", a.worst_frame_seed},
+                     {"worst_frame_index", a.worst_frame_index},
+                     {"median_frame_m", a.median_frame_m},
+                     {"worst_to_median_frame", a.worst_ratio},
+                     {"ms", {{"total", ToJson(a.total)}}}};
+    if (row.peer) {
+      if (full_ms && a.total.median > 0) e["full_over_peer_ms"] = *full_ms / a.total.median;
+    } else {
+      e["ms"]["features"] = ToJson(a.features);
+      e["ms"]["registration"] = ToJson(a.registration);
+      e["ms"]["map_update"] = ToJson(a.map_update);
+      e["median_iterations"] = a.iterations_median;
+      e["map_points"] = {{"median", a.map_median}, {"max", a.map_max}};
+      e["degenerate_share"] = a.degenerate_share;
+      e["registered_share"] = a.registered_share;
+    }
+    for (const SeedResult& s : row.seeds) e["per_seed"].push_back(ToJson(s));
+    j[row.peer ? "peers" : "modes"].push_back(e);
+  }
+  return j;
+}
+
+bool WriteJson(const std::string& path, const nlohmann::json& report) {
+  const fs::path tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << report.dump(2) << "\n";
+    if (!out) return false;
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  return !ec;
+}
+
+std::string ListText(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Odometry benchmark with ablation on simulated sequences"};
-  int scans = 100;
-  std::vector<std::string> scenes{"corridor", "zigzag", "outdoor"};
-  std::vector<std::string> sensors{"os1-64", "vlp-16"};
-  std::vector<std::string> modes{"point_to_point", "plane_only", "classes_no_degeneracy",
-                                 "full_remap", "full"};
-  std::string json_path;
-  std::string config_path;
-  app.add_option("--config", config_path, "odometry YAML config (the mode is overridden)");
-  std::uint64_t seed = 1;
-  bool per_scan = false;
-  bool no_remap = false;
-  app.add_flag("--no-remap", no_remap, "full mode without solution remapping (weights only)");
-  app.add_flag("--per-scan", per_scan, "print every scan's motion error (debugging)");
-  app.add_option("--scans", scans, "scans per sequence")->check(CLI::Range(3, 100000));
-  app.add_option("--scenes", scenes, "simulated scenes");
-  app.add_option("--sensors", sensors, "simulated sensors");
-  app.add_option("--modes", modes, "registration modes (first is the timing baseline)");
-  app.add_option("--seed", seed, "simulator seed");
-  app.add_option("--json", json_path, "write all numbers to this JSON file");
+  CLI::App app{"Odometry benchmark: accuracy and per-stage speed of every registration mode (and "
+               "optional peer runners) on full-length realistic simulated runs"};
+  Options o;
+  std::string presets_help;
+  for (const sim::Preset& p : sim::Presets()) {
+    presets_help += "\n  " + p.name + " (" + std::to_string(p.scans) + " scans): " + p.what;
+  }
+  app.footer(
+      "Presets:" + presets_help +
+      "\n\nEach scan is simulated once and given to one pipeline per mode in turn (identical scans, "
+      "same machine load); only per-scan results are kept. Rows per (preset, sensor, mode) pool "
+      "the seeds: APE RMSE median, max single-pose APE, seed spread (min-max APE RMSE), RPE RMSE "
+      "median, the worst frame error (translation error of one scan-to-scan relative pose) and "
+      "its ratio to the median frame error, per-stage ms median/p99, iterations, map size, "
+      "degenerate share. RSS is the whole process's VmRSS after the last scan, all modes' pipelines "
+      "alive (max over seeds), and its peak VmHWM.\n\n"
+      "Peers: --peer NAME=PATH runs `PATH SEQ_DIR --out poses.tum --timing timing.csv --quiet` on "
+      "the same sequence written to disk (a temporary directory, or --cache-dir); timing.csv holds "
+      "one ms value per scan. Extra arguments follow a colon, comma separated: "
+      "--peer genz-nodeskew=/tmp/peers/bin/genz-runner:--no-deskew. Peers read float32 points, "
+      "as any sequence reader does.\n\n"
+      "Legacy: --scenes NAME,... runs the constant-speed scenes with --scans scans (default 100) "
+      "and seed --seed (default 1) instead of the presets.");
+  auto* presets_opt = app.add_option("--presets", o.presets, "realistic presets, comma separated")
+                          ->delimiter(',')->capture_default_str();
+  app.add_option("--scenes", o.scenes, "legacy: constant-speed scenes instead of presets")
+      ->delimiter(',')->excludes(presets_opt);
+  app.add_option("--sensors", o.sensors, "simulated sensors")->delimiter(',')->capture_default_str();
+  app.add_option("--modes", o.modes, "registration modes (the first is the timing baseline)")
+      ->delimiter(',')->capture_default_str();
+  auto* seeds_opt = app.add_option("--seeds", o.seeds, "simulator seeds (presets default: 1,2,3)")
+                        ->delimiter(',');
+  app.add_option("--seed", o.seed, "single seed (legacy; same as --seeds S)")->excludes(seeds_opt);
+  app.add_option("--scans", o.scans,
+                 "scans per run (presets: the first N of the walk, default the whole walk; "
+                 "scenes: default 100)")
+      ->check(CLI::Range(3, 100000));
+  app.add_option("--peer", o.peer_specs, "peer runner NAME=PATH[:ARG,ARG...] (repeatable)");
+  app.add_option("--cache-dir", o.cache_dir,
+                 "keep simulated sequences here (sequence directory format) and reuse them");
+  app.add_option("--json", o.json_path, "write all numbers to this JSON file (after every group)");
+  app.add_option("--config", o.config_path, "odometry YAML config (the mode is overridden)");
+  app.add_flag("--no-remap", o.no_remap, "full modes without solution remapping (weights only)");
+  app.add_flag("--per-scan", o.per_scan, "print every scan's motion error (debugging)");
+  app.add_flag("--quiet", o.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
-  dammloam::OdometryConfig base_config;
+
+  const bool legacy = !o.scenes.empty();
+  const bool seed_given = app.count("--seed") > 0;
+  if (o.seeds.empty()) {
+    o.seeds = legacy || seed_given ? std::vector<std::uint64_t>{o.seed} : std::vector<std::uint64_t>{1, 2, 3};
+  }
+  for (const std::string& spec : o.peer_specs) {
+    const auto peer = ParsePeer(spec);
+    if (!peer) {
+      std::fprintf(stderr, "error: --peer '%s': expected NAME=PATH[:ARG,ARG...]\n", spec.c_str());
+      return 2;
+    }
+    if (access(peer->path.c_str(), X_OK) != 0) {
+      std::fprintf(stderr, "error: --peer %s: '%s' is not an executable\n", peer->name.c_str(),
+                   peer->path.c_str());
+      return 2;
+    }
+    o.peers.push_back(*peer);
+  }
+
+  OdometryConfig base_config;
   try {
-    if (!config_path.empty()) base_config = dammloam::io::LoadOdometryConfig(config_path);
+    if (!o.config_path.empty()) base_config = io::LoadOdometryConfig(o.config_path);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
   }
-
-  nlohmann::json report = nlohmann::json::array();
-  for (const std::string& scene_name : scenes) {
-    const auto scene = dammloam::sim::ParseSceneKind(scene_name);
-    if (!scene) {
-      std::fprintf(stderr, "error: unknown scene '%s'\n", scene_name.c_str());
+  std::vector<OdometryConfig> configs;
+  for (const std::string& mode_name : o.modes) {
+    const auto mode = ParseRegistrationMode(mode_name);
+    if (!mode) {
+      std::fprintf(stderr, "error: unknown mode '%s'\n", mode_name.c_str());
       return 2;
     }
-    for (const std::string& sensor_name : sensors) {
-      const auto sensor = dammloam::sim::MakeSensorSpec(sensor_name);
+    OdometryConfig config = base_config;
+    config.registration.mode = *mode;
+    if (o.no_remap) config.registration.remap_degenerate_directions = false;
+    configs.push_back(config);
+  }
+  if (configs.empty()) {
+    std::fprintf(stderr, "error: no modes\n");
+    return 2;
+  }
+
+  std::vector<Group> groups;
+  for (const std::string& name : legacy ? o.scenes : o.presets) {
+    for (const std::string& sensor_name : o.sensors) {
+      Group g;
+      g.label = name;
+      const auto sensor = sim::MakeSensorSpec(sensor_name);
       if (!sensor) {
-        std::fprintf(stderr, "error: unknown sensor '%s'\n", sensor_name.c_str());
+        std::fprintf(stderr, "error: unknown sensor '%s' (known: %s)\n", sensor_name.c_str(),
+                     ListText(sim::SensorNames()).c_str());
         return 2;
       }
-      const auto sequence = dammloam::bench::GenerateSequence(*scene, *sensor, scans, seed);
-      std::printf("%s / %s, %d scans\n", scene_name.c_str(), sensor_name.c_str(), scans);
-      std::vector<RunSummary> runs;
-      for (const std::string& mode_name : modes) {
-        const auto mode = dammloam::ParseRegistrationMode(mode_name);
-        if (!mode) {
-          std::fprintf(stderr, "error: unknown mode '%s'\n", mode_name.c_str());
+      g.sensor = *sensor;
+      if (legacy) {
+        const auto scene = sim::ParseSceneKind(name);
+        if (!scene) {
+          std::fprintf(stderr, "error: unknown scene '%s'\n", name.c_str());
           return 2;
         }
-        dammloam::OdometryConfig config = base_config;
-        config.registration.mode = *mode;
-        if (no_remap) config.registration.remap_degenerate_directions = false;
-        runs.push_back(dammloam::bench::RunPipeline(sequence, config));
-        if (per_scan) PrintPerScan(sequence, runs.back());
-        PrintRow(runs.back(), runs.front());
+        g.scene = *scene;
+        g.scans = o.scans.value_or(100);
+      } else {
+        const auto preset = sim::FindPreset(name);
+        if (!preset) {
+          std::fprintf(stderr, "error: unknown preset '%s' (known: %s)\n", name.c_str(),
+                       ListText(sim::PresetNames()).c_str());
+          return 2;
+        }
+        g.preset = true;
+        g.preset_def = *preset;
+        g.scans = std::min(o.scans.value_or(preset->scans), preset->scans);
       }
-      nlohmann::json entry{{"scene", scene_name}, {"sensor", sensor_name}, {"scans", scans}};
-      for (const RunSummary& r : runs) entry["runs"].push_back(ToJson(r));
-      report.push_back(entry);
+      groups.push_back(g);
     }
   }
-  if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    out << report.dump(2) << "\n";
-    if (!out) {
-      std::fprintf(stderr, "error: cannot write %s\n", json_path.c_str());
+
+  nlohmann::json report{{"modes", o.modes}, {"seeds", o.seeds}, {"groups", nlohmann::json::array()}};
+  for (const Peer& p : o.peers) report["peers"].push_back({{"name", p.name}, {"path", p.path}, {"args", p.args}});
+  const auto start = std::chrono::steady_clock::now();
+  for (const Group& g : groups) {
+    GroupResult result;
+    try {
+      result = RunGroup(o, g, configs);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s / %s: %s\n", g.label.c_str(), g.sensor.name.c_str(), e.what());
+      return 1;
+    }
+    PrintGroup(o, result);
+    report["groups"].push_back(ToJson(result, o));
+    if (!o.json_path.empty() && !WriteJson(o.json_path, report)) {
+      std::fprintf(stderr, "error: cannot write %s\n", o.json_path.c_str());
       return 1;
     }
   }
+  std::printf("\nwall time %.0f s\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }

@@ -2,8 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
 
 #include "core/odometry/pipeline.hpp"
+#include "tools/common/sequence_io.hpp"
+#include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"
 
 namespace dammloam::bench {
@@ -33,7 +40,7 @@ Percentiles ComputePercentiles(std::vector<double> values) {
     const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)));
     return values[i];
   };
-  return {at(0.5), at(0.95)};
+  return {at(0.5), at(0.95), at(0.99), values.back()};
 }
 
 RunSummary RunPipeline(const SimSequence& sequence, const OdometryConfig& config) {
@@ -82,6 +89,114 @@ RunSummary RunPipeline(const SimSequence& sequence, const OdometryConfig& config
   summary.ape_rmse = metrics.ape.rmse;
   summary.rpe_rmse = metrics.rpe.rmse;
   return summary;
+}
+
+ScanStream SimulatedStream(const sim::Simulator& simulator, int num_scans) {
+  ScanStream stream;
+  stream.sensor = simulator.sensor().name;
+  stream.model = simulator.sensor_model();
+  for (int i = 0; i < num_scans; ++i) {
+    const double t = simulator.ScanStartTime(i);
+    stream.ground_truth.push_back({t, simulator.PoseAt(t)});
+  }
+  stream.scan = [&simulator](std::size_t i) { return simulator.SimulateScan(static_cast<int>(i)); };
+  return stream;
+}
+
+ScanStream SequenceStream(const std::string& dir) {
+  auto reader = std::make_shared<const io::SequenceReader>(io::SequenceReader::Open(dir));
+  auto ground_truth = reader->ReadGroundTruth();
+  if (!ground_truth) throw io::IoError(dir + ": no gt.tum");
+  if (ground_truth->size() != reader->size()) {
+    throw io::IoError(dir + ": gt.tum has " + std::to_string(ground_truth->size()) + " poses for " +
+                      std::to_string(reader->size()) + " scans");
+  }
+  ScanStream stream;
+  stream.sensor = reader->meta().sensor;
+  stream.model = reader->meta().model;
+  stream.ground_truth = std::move(*ground_truth);
+  stream.scan = [reader](std::size_t i) { return reader->ReadScan(i); };
+  return stream;
+}
+
+ScanRecord ToRecord(const OdometryResult& r) {
+  ScanRecord record;
+  record.stamp = r.stamp;
+  record.T_world_sensor = r.T_world_sensor;
+  record.status = r.status;
+  record.timings = r.timings;
+  record.map_points = r.map_points;
+  record.iterations = r.iterations;
+  record.num_correspondences = r.num_correspondences;
+  record.alpha = r.alpha;
+  record.eigenvalues = r.degeneracy.eigenvalues;
+  record.degenerate = r.iterations > 0 && r.degeneracy.AnyDegenerate();
+  record.class_counts = r.class_counts;
+  return record;
+}
+
+std::vector<io::StampedPose> ModeTrace::Estimate() const {
+  std::vector<io::StampedPose> estimate;
+  estimate.reserve(scans.size());
+  for (const ScanRecord& r : scans) estimate.push_back({r.stamp, r.T_world_sensor});
+  return estimate;
+}
+
+std::vector<ModeTrace> StreamModes(const ScanStream& stream,
+                                   const std::vector<OdometryConfig>& configs,
+                                   const std::function<void(const Scan&)>& on_scan,
+                                   const std::function<void(std::size_t)>& progress) {
+  std::vector<std::unique_ptr<OdometryPipeline>> pipelines;
+  std::vector<ModeTrace> traces(configs.size());
+  for (std::size_t m = 0; m < configs.size(); ++m) {
+    pipelines.push_back(std::make_unique<OdometryPipeline>(configs[m], stream.model));
+    traces[m].mode = std::string(Name(configs[m].registration.mode));
+    traces[m].scans.reserve(stream.size());
+  }
+  for (std::size_t i = 0; i < stream.size(); ++i) {
+    const Scan scan = stream.scan(i);
+    for (std::size_t m = 0; m < pipelines.size(); ++m) {
+      traces[m].scans.push_back(ToRecord(pipelines[m]->Process(scan)));
+    }
+    if (on_scan) on_scan(scan);
+    if (progress) progress(i + 1);
+  }
+  return traces;
+}
+
+TrajectoryErrors EvaluateEstimate(const std::vector<io::StampedPose>& ground_truth,
+                                  const std::vector<io::StampedPose>& estimate) {
+  const eval::EvaluateOptions options;
+  const eval::TrajectoryMetrics metrics = eval::EvaluateTrajectories(ground_truth, estimate, options);
+  TrajectoryErrors errors;
+  errors.ape_rmse = metrics.ape.rmse;
+  errors.ape_max = metrics.ape.max;
+  errors.rpe_rmse = metrics.rpe.rmse;
+  errors.drift_percent = metrics.drift_percent;
+  errors.median_frame_m = metrics.rpe.median;
+  errors.pairs = metrics.pairs;
+  const eval::MatchedTrajectories matched =
+      eval::AssociateByTime(ground_truth, estimate, options.max_time_diff);
+  errors.frame_errors = eval::RpeTranslationErrors(matched);
+  for (std::size_t k = 0; k < errors.frame_errors.size(); ++k) {
+    if (errors.frame_errors[k] > errors.worst_frame_m) {
+      errors.worst_frame_m = errors.frame_errors[k];
+      errors.worst_frame_index = k + 1;
+    }
+  }
+  return errors;
+}
+
+double ProcStatusMiB(const char* key) {
+  std::ifstream status("/proc/self/status");
+  const std::size_t key_length = std::strlen(key);
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.compare(0, key_length, key) == 0 && line.size() > key_length && line[key_length] == ':') {
+      return std::strtod(line.c_str() + key_length + 1, nullptr) / 1024.0;  // "NNN kB"
+    }
+  }
+  return 0.0;
 }
 
 }  // namespace dammloam::bench
