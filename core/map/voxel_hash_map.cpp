@@ -138,6 +138,29 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
   return best;
 }
 
+VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d& centre) const {
+  const Voxel voxel = PointToVoxel(centre, voxel_size_);
+  Neighbourhood out;
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  for (const auto& offset : kNeighbourOffsets) {
+    const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
+    if (it == map_.end()) continue;
+    for (const auto& points : it->second.by_class) {
+      for (const MapPoint& p : points) {
+        const Eigen::Vector3d d = p.position - centre;  // centred for precision far from origin
+        out.mean += d;
+        second.noalias() += d * d.transpose();
+        ++out.count;
+      }
+    }
+  }
+  if (out.count == 0) return out;
+  out.mean /= out.count;
+  out.covariance = second / out.count - out.mean * out.mean.transpose();
+  out.mean += centre;
+  return out;
+}
+
 std::vector<MapPoint> VoxelHashMap::Points() const {
   std::vector<MapPoint> out;
   out.reserve(NumPoints());

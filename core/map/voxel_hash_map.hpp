@@ -41,6 +41,15 @@ class VoxelHashMap {
       const Eigen::Vector3d& query, std::optional<PointClass> label,
       double max_distance = std::numeric_limits<double>::infinity()) const;
 
+  // Mean and covariance of every map point in the 27 voxels around `centre`, all classes: the
+  // shape of the surface a point pair lands on.
+  struct Neighbourhood {
+    int count = 0;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  };
+  Neighbourhood NeighbourhoodOf(const Eigen::Vector3d& centre) const;
+
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return map_.size(); }

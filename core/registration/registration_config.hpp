@@ -55,9 +55,14 @@ struct RegistrationConfig {
   // Full mode (the motion prior): along a direction the planes leave weak, a planar pair counts
   // only if its normal's cosine to the direction is at least this (a door jamb, an end wall, a
   // lamp face). Walls along a corridor carry a few per cent of their normal's noise along the
-  // axis, and with thousands of them that noise would outweigh the prior; point pairs there
-  // follow the ring pattern and report standstill, so they never count along a weak direction.
+  // axis, and with thousands of them that noise would outweigh the prior.
   double strong_normal_cosine = 0.5;
+  // Full mode, along a weak direction: a point pair whose target's map neighbourhood (27 voxels)
+  // has lambda_min / sum(lambda) below this lies on a plane and becomes point-to-plane; with the
+  // middle eigenvalue below it too, on a line (point-to-line). Point pairs on a wall follow the
+  // ring pattern and report standstill: counted as points, a hand-held VLP-16 walk stuck where
+  // it had stopped on the way out and ran away elsewhere (0.43 / 75.7 m APE on seeds 2 / 3).
+  double point_flatness = 0.1;
   // Full mode: a direction is weak, and its pairs are sorted as above, when lambda_i /
   // lambda_max of the planar H_tt is below this. Sorting costs a direction nothing that facing
   // pairs observe, so the bar is higher than for the paper's weights: a corridor still seeing a

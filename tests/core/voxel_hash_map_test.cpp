@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/map/map_config.hpp"
 #include "core/map/voxel_hash_map.hpp"
 #include "synthetic_scenes.hpp"
@@ -70,6 +72,32 @@ TEST(VoxelHashMap, UpdateTransformsPointsAndNormalsAndDropsFarVoxels) {
   // Sensor moves 20 m away: the voxel is beyond max_distance and must go.
   map.Update({}, {}, {}, test::MakePose(25.0, 0.0, 0.0, 0, 0, 0));
   EXPECT_TRUE(map.empty());
+}
+
+// The 27-voxel neighbourhood of a tilted plane, all classes together: its covariance's smallest
+// eigenvector is the plane's normal and carries no variance; one voxel farther is outside it.
+TEST(VoxelHashMap, NeighbourhoodOfAPlaneGivesItsNormal) {
+  VoxelHashMap map(0.5, 100.0, 20);
+  const Eigen::Vector3d normal = Eigen::Vector3d(0.0, 1.0, 1.0).normalized();
+  const Eigen::Vector3d u(1.0, 0.0, 0.0), w = normal.cross(u);
+  std::vector<MapPoint> points;
+  for (double a = -3.0; a <= 3.0; a += 0.1) {
+    for (double b = -3.0; b <= 3.0; b += 0.1) {
+      const auto label = (a + b > 0.0) ? PointClass::Wall : PointClass::Edge;
+      points.push_back({a * u + b * w, Eigen::Vector3f::Zero(), label});
+    }
+  }
+  map.AddPoints(points);
+  const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf({0.1, 0.0, 0.0});
+  ASSERT_GT(hood.count, 50);
+  EXPECT_NEAR(hood.mean.dot(normal), 0.0, 1e-9);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hood.covariance);
+  EXPECT_LT(eig.eigenvalues()(0), 1e-12);
+  EXPECT_GT(eig.eigenvalues()(1), 0.05);
+  EXPECT_NEAR(std::abs(eig.eigenvectors().col(0).dot(normal)), 1.0, 1e-9);
+  // Points beyond the 27 voxels do not count: the neighbourhood spans at most 1.5 m per axis.
+  EXPECT_LT(hood.covariance.trace(), 3 * 0.75 * 0.75);
+  EXPECT_EQ(map.NeighbourhoodOf({0.0, 10.0, 10.0}).count, 0);
 }
 
 TEST(MapConfig, AutoVoxelSizeFollowsTheScene) {
