@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/geometry/point_class.hpp"
+
 namespace dammloam {
 
 // Integer cell of a regular voxel grid; shared by the downsampler and the voxel map.
@@ -16,6 +18,21 @@ struct VoxelHash {
     const auto y = static_cast<std::uint32_t>(v.y());
     const auto z = static_cast<std::uint32_t>(v.z());
     return static_cast<std::size_t>((x * 73856093u) ^ (y * 19349669u) ^ (z * 83492791u));
+  }
+};
+
+// A cell of one class's grid: the classes share one hash table without sharing cells.
+struct ClassVoxel {
+  Voxel voxel;
+  PointClass label;
+  bool operator==(const ClassVoxel& other) const {
+    return label == other.label && voxel == other.voxel;
+  }
+};
+
+struct ClassVoxelHash {
+  std::size_t operator()(const ClassVoxel& key) const {
+    return VoxelHash{}(key.voxel) ^ (static_cast<std::size_t>(key.label) * 2654435761u);
   }
 };
 

@@ -18,6 +18,9 @@ struct MapConfig {
   double max_distance = 100.0;          // metres; voxels farther from the sensor are dropped
 };
 
+// Per class and voxel; the map indexes a voxel's points with 16 bits.
+inline constexpr int kMaxPointsPerVoxel = 1000;
+
 // The map voxel size used for a sequence whose first scan has this median range.
 double AutoVoxelSize(const MapConfig& config, double median_range);
 

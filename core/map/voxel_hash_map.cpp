@@ -1,5 +1,7 @@
 #include "core/map/voxel_hash_map.hpp"
 
+#include "core/map/map_config.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,7 +12,7 @@ namespace dammloam {
 VoxelHashMap::VoxelHashMap(double voxel_size, double max_distance, int max_points_per_voxel)
     : voxel_size_(voxel_size),
       max_distance_(max_distance),
-      max_points_per_voxel_(max_points_per_voxel) {}
+      max_points_per_voxel_(std::min(max_points_per_voxel, kMaxPointsPerVoxel)) {}
 
 void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
                           const std::vector<PointClass>& labels,
@@ -36,13 +38,6 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
   }
 }
 
-const Eigen::Vector3d& VoxelHashMap::VoxelBlock::AnyPosition() const {
-  for (const auto& points : by_class) {
-    if (!points.empty()) return points.front().position;
-  }
-  return by_class[0].front().position;  // unreachable: blocks are never empty
-}
-
 void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
   if (max_points_per_voxel_ < 1) return;  // would leave empty voxels behind
   // A point closer than voxel / sqrt(max points) to one of its class already in the voxel
@@ -52,24 +47,25 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
   const double min_spacing_sq = voxel_size_ * voxel_size_ / max_points_per_voxel_;
   for (const MapPoint& p : points) {
     // One lookup; a new voxel always receives the point, so no block is left empty.
-    auto& same_class = map_[PointToVoxel(p.position, voxel_size_)].by_class[Index(p.label)];
-    if (static_cast<int>(same_class.size()) >= max_points_per_voxel_) continue;
-    const bool sampled = std::any_of(same_class.begin(), same_class.end(), [&](const MapPoint& q) {
+    VoxelBlock& block = map_[PointToVoxel(p.position, voxel_size_)];
+    const std::size_t c = Index(p.label);
+    if (block.ClassEnd(c) - block.ClassBegin(c) >= max_points_per_voxel_) continue;
+    const bool sampled = std::any_of(block.ClassBegin(c), block.ClassEnd(c), [&](const MapPoint& q) {
       return (q.position - p.position).squaredNorm() < min_spacing_sq;
     });
-    if (!sampled) {
-      same_class.push_back(p);
-      ++num_points_;
-    }
+    if (sampled) continue;
+    block.points.insert(block.points.begin() + block.begin[c + 1], p);
+    for (std::size_t k = c + 1; k <= kNumPointClasses; ++k) ++block.begin[k];
+    ++num_points_;
   }
 }
 
 void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   const double max_sq = max_distance_ * max_distance_;
   for (auto it = map_.begin(); it != map_.end();) {
-    const Eigen::Vector3d& p = it->second.AnyPosition();
+    const Eigen::Vector3d& p = it->second.points.front().position;
     if ((p - origin).squaredNorm() > max_sq) {
-      for (const auto& points : it->second.by_class) num_points_ -= points.size();
+      num_points_ -= it->second.points.size();
       it = map_.erase(it);
     } else {
       ++it;
@@ -124,34 +120,35 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
     if (BoxDistanceSq(local, offset) >= best_sq * inv_voxel_sq) continue;
     const auto it = map_.find(centre + Voxel(offset[0], offset[1], offset[2]));
     if (it == map_.end()) continue;
-    for (std::size_t c = 0; c < kNumPointClasses; ++c) {
-      if (label && c != Index(*label)) continue;
-      for (const MapPoint& p : it->second.by_class[c]) {
-        const double d_sq = (p.position - query).squaredNorm();
-        if (d_sq < best_sq) {
-          best_sq = d_sq;
-          best = &p;
-        }
+    const VoxelBlock& block = it->second;
+    const MapPoint* first = label ? block.ClassBegin(Index(*label)) : block.points.data();
+    const MapPoint* last = label ? block.ClassEnd(Index(*label)) : block.points.data() + block.points.size();
+    for (const MapPoint* p = first; p != last; ++p) {
+      const double d_sq = (p->position - query).squaredNorm();
+      if (d_sq < best_sq) {
+        best_sq = d_sq;
+        best = p;
       }
     }
   }
   return best;
 }
 
-VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d& centre) const {
-  const Voxel voxel = PointToVoxel(centre, voxel_size_);
+VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d& point) const {
+  const Voxel voxel = PointToVoxel(point, voxel_size_);
+  // Centred on the voxel's centre, not on `point`: every point of a voxel gets the same
+  // (bit-identical) answer, so callers may cache it per voxel.
+  const Eigen::Vector3d centre = (voxel.cast<double>().array() + 0.5).matrix() * voxel_size_;
   Neighbourhood out;
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
   for (const auto& offset : kNeighbourOffsets) {
     const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
     if (it == map_.end()) continue;
-    for (const auto& points : it->second.by_class) {
-      for (const MapPoint& p : points) {
-        const Eigen::Vector3d d = p.position - centre;  // centred for precision far from origin
-        out.mean += d;
-        second.noalias() += d * d.transpose();
-        ++out.count;
-      }
+    for (const MapPoint& p : it->second.points) {
+      const Eigen::Vector3d d = p.position - centre;  // centred for precision far from origin
+      out.mean += d;
+      second.noalias() += d * d.transpose();
+      ++out.count;
     }
   }
   if (out.count == 0) return out;
@@ -164,9 +161,7 @@ VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d&
 std::vector<MapPoint> VoxelHashMap::Points() const {
   std::vector<MapPoint> out;
   out.reserve(NumPoints());
-  for (const auto& [voxel, block] : map_) {
-    for (const auto& points : block.by_class) out.insert(out.end(), points.begin(), points.end());
-  }
+  for (const auto& [voxel, block] : map_) out.insert(out.end(), block.points.begin(), block.points.end());
   return out;
 }
 

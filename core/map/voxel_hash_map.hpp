@@ -2,6 +2,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <tsl/robin_map.h>
@@ -41,14 +42,15 @@ class VoxelHashMap {
       const Eigen::Vector3d& query, std::optional<PointClass> label,
       double max_distance = std::numeric_limits<double>::infinity()) const;
 
-  // Mean and covariance of every map point in the 27 voxels around `centre`, all classes: the
-  // shape of the surface a point pair lands on.
+  // Mean and covariance of every map point in the 27 voxels around the voxel holding `point`,
+  // all classes: the shape of the surface a point pair lands on. The same for every point of
+  // one voxel.
   struct Neighbourhood {
     int count = 0;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   };
-  Neighbourhood NeighbourhoodOf(const Eigen::Vector3d& centre) const;
+  Neighbourhood NeighbourhoodOf(const Eigen::Vector3d& point) const;
 
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const { return num_points_; }
@@ -63,10 +65,14 @@ class VoxelHashMap {
   double max_distance() const { return max_distance_; }
 
  private:
-  // Points kept per class so a class-wise query scans only its own class.
+  // One contiguous array per voxel, grouped by class so that a class-wise query scans only its
+  // own class: class c is points[begin[c], begin[c + 1]). One allocation per voxel and small
+  // hash buckets keep the 27-voxel search in cache.
   struct VoxelBlock {
-    std::array<std::vector<MapPoint>, kNumPointClasses> by_class;
-    const Eigen::Vector3d& AnyPosition() const;
+    std::vector<MapPoint> points;
+    std::array<std::uint16_t, kNumPointClasses + 1> begin{};
+    const MapPoint* ClassBegin(std::size_t c) const { return points.data() + begin[c]; }
+    const MapPoint* ClassEnd(std::size_t c) const { return points.data() + begin[c + 1]; }
   };
   double voxel_size_;
   double max_distance_;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "core/odometry/frame_downsample.hpp"
 #include "core/preprocess/deskew.hpp"
 
 namespace dammloam {
@@ -83,7 +82,7 @@ void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
 }
 
 void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor) {
-  const std::vector<std::size_t> kept = ClassVoxelDownsample(
+  const std::vector<std::size_t> kept = map_sampler_.Select(
       scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
   map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
               Gather(scan.normals, kept), T_world_sensor);

@@ -8,6 +8,7 @@
 #include "core/geometry/scan.hpp"
 #include "core/geometry/se3.hpp"
 #include "core/map/voxel_hash_map.hpp"
+#include "core/odometry/frame_downsample.hpp"
 #include "core/odometry/odometry_config.hpp"
 #include "core/odometry/odometry_result.hpp"
 #include "core/preprocess/classified_scan.hpp"
@@ -65,6 +66,7 @@ class Odometry {
   OdometryConfig config_;
   SensorModel sensor_;
   ClassAwareDownsampler downsampler_;
+  ClassVoxelSampler map_sampler_;
   VoxelHashMap map_;
   AdaptiveThreshold threshold_;
   bool initialised_ = false;

@@ -8,24 +8,6 @@
 #include "core/geometry/voxel.hpp"
 
 namespace dammloam {
-namespace {
-
-// Key of a voxel in one class's grid: the class goes into the hash so the grids share a map.
-struct ClassVoxel {
-  Voxel voxel;
-  PointClass label;
-  bool operator==(const ClassVoxel& other) const {
-    return label == other.label && voxel == other.voxel;
-  }
-};
-
-struct ClassVoxelHash {
-  std::size_t operator()(const ClassVoxel& key) const {
-    return VoxelHash{}(key.voxel) ^ (static_cast<std::size_t>(key.label) * 2654435761u);
-  }
-};
-
-}  // namespace
 
 std::vector<std::size_t> VoxelDownsample(const std::vector<Eigen::Vector3d>& points,
                                          double voxel_size) {
@@ -53,13 +35,14 @@ std::vector<std::size_t> ClassAwareDownsampler::Select(const std::vector<Eigen::
                                                        const std::vector<PointClass>& labels) {
   std::vector<std::size_t> kept;
   if (labels.size() != points.size()) return kept;
-  tsl::robin_map<ClassVoxel, std::size_t, ClassVoxelHash> grid;
-  grid.reserve(points.size() / 4 + 1);
+  grid_.clear();  // keeps its buckets: no allocation once the first scans sized it
+  grid_.reserve(points.size() / 4 + 1);
   kept.reserve(std::min(points.size(), 2 * config_.target_points));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::size_t c = std::min<std::size_t>(Index(labels[i]), kNumPointClasses - 1);
-    const ClassVoxel key{PointToVoxel(points[i], voxel_sizes_[c]), labels[i]};
-    if (grid.emplace(key, i).second) kept.push_back(i);
+    if (grid_.insert({PointToVoxel(points[i], voxel_sizes_[c]), labels[i]}).second) {
+      kept.push_back(i);
+    }
   }
   Adapt(kept.size());
   return kept;

@@ -2,9 +2,11 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <tsl/robin_set.h>
 #include <vector>
 
 #include "core/geometry/point_class.hpp"
+#include "core/geometry/voxel.hpp"
 #include "core/preprocess/preprocess_config.hpp"
 
 namespace dammloam {
@@ -35,6 +37,7 @@ class ClassAwareDownsampler {
 
   DownsampleConfig config_;
   std::array<double, kNumPointClasses> voxel_sizes_;
+  tsl::robin_set<ClassVoxel, ClassVoxelHash> grid_;  // scratch, kept between scans
 };
 
 }  // namespace dammloam

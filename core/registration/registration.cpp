@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <unordered_map>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -153,24 +154,55 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
   return shape;
 }
 
+// The shape around a target depends only on its map voxel, and the map does not change during
+// one registration: later iterations, and pairs landing in one voxel, reuse it.
+class ShapeCache {
+ public:
+  ShapeCache(const VoxelHashMap& map, double flatness) : map_(map), flatness_(flatness) {}
+
+  // The shapes around the targets of `pairs`, in their order.
+  std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
+    std::vector<Voxel> voxels(pairs.size());
+    std::vector<Voxel> missing;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      voxels[i] = PointToVoxel(pairs[i].target, map_.voxel_size());
+      if (shapes_.try_emplace(voxels[i]).second) missing.push_back(voxels[i]);
+    }
+    std::vector<LocalShape> computed(missing.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, missing.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                          computed[i] = ShapeAround(map_, Centre(missing[i]), flatness_);
+                        }
+                      });
+    for (std::size_t i = 0; i < missing.size(); ++i) shapes_[missing[i]] = computed[i];
+    std::vector<const LocalShape*> out(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) out[i] = &shapes_.find(voxels[i])->second;
+    return out;
+  }
+
+ private:
+  Eigen::Vector3d Centre(const Voxel& v) const {
+    return (v.cast<double>().array() + 0.5).matrix() * map_.voxel_size();
+  }
+  const VoxelHashMap& map_;
+  double flatness_;
+  // Node-based: pointers handed out stay valid while later lookups insert.
+  std::unordered_map<Voxel, LocalShape, VoxelHash> shapes_;
+};
+
 WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport& report,
-                         const VoxelHashMap& map, const RegistrationConfig& config) {
+                         const RegistrationConfig& config, ShapeCache& shapes_around) {
   WeakAwarePairs out{pairs.planar, {}};
-  std::vector<LocalShape> shapes(pairs.point.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.point.size(), 64),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        shapes[i] = ShapeAround(map, pairs.point[i].target, config.point_flatness);
-                      }
-                    });
+  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(pairs.point);
   for (std::size_t i = 0; i < pairs.point.size(); ++i) {
-    if (shapes[i].planes == 0) {
+    if (shapes[i]->planes == 0) {
       out.point.push_back(pairs.point[i]);
       continue;
     }
-    for (int k = 0; k < shapes[i].planes; ++k) {
+    for (int k = 0; k < shapes[i]->planes; ++k) {
       Correspondence c = pairs.point[i];
-      c.normal = shapes[i].n[static_cast<std::size_t>(k)];
+      c.normal = shapes[i]->n[static_cast<std::size_t>(k)];
       out.planar.push_back(c);
     }
   }
@@ -226,6 +258,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
+  ShapeCache shapes_around(map, config.point_flatness);
 
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
     const CorrespondenceSet pairs =
@@ -241,7 +274,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
     LinearSystem system;
     if (fused && planar_report.AnyDegenerate()) {
-      const WeakAwarePairs weak_aware = WeakAware(pairs, planar_report, map, config);
+      const WeakAwarePairs weak_aware = WeakAware(pairs, planar_report, config, shapes_around);
       system = PlanarSystem(weak_aware.planar, std::vector<double>(weak_aware.planar.size(), 1.0),
                             alpha, kernel_scale);
       system += PointSystem(weak_aware.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),

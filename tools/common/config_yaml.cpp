@@ -237,7 +237,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(m.auto_voxel_range_factor > 0.0, "map.auto_voxel_range_factor", "must be > 0");
   Require(m.auto_voxel_min > 0.0, "map.auto_voxel_min", "must be > 0");
   Require(m.auto_voxel_max >= m.auto_voxel_min, "map.auto_voxel_max", "must be >= auto_voxel_min");
-  Require(m.max_points_per_voxel >= 1, "map.max_points_per_voxel", "must be >= 1");
+  Require(m.max_points_per_voxel >= 1 && m.max_points_per_voxel <= kMaxPointsPerVoxel,
+          "map.max_points_per_voxel", "must be in [1, 1000]");
   Require(m.max_distance > 0.0, "map.max_distance", "must be > 0");
   const auto& r = c.registration;
   Require(r.max_iterations >= 1, "registration.max_iterations", "must be >= 1");
