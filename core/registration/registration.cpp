@@ -6,6 +6,7 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 #include <tbb/blocked_range.h>
@@ -234,8 +235,20 @@ void AddMotionPrior(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_pred,
   b.noalias() += JtW * e;
 }
 
-void Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
-  for (Eigen::Vector3d& p : points) p = T * p;
+// Returns the largest distance a point moved.
+double Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
+  double moved_sq = 0.0;
+  for (Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d q = T * p;
+    moved_sq = std::max(moved_sq, (q - p).squaredNorm());
+    p = q;
+  }
+  return std::sqrt(moved_sq);
+}
+
+void MoveSources(const Eigen::Isometry3d& T, CorrespondenceSet& pairs) {
+  for (Correspondence& c : pairs.planar) c.source = T * c.source;
+  for (Correspondence& c : pairs.point) c.source = T * c.source;
 }
 
 }  // namespace
@@ -260,10 +273,16 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
   ShapeCache shapes_around(map, config.point_flatness);
 
+  CorrespondenceSet pairs;
+  double moved_since_search = std::numeric_limits<double>::infinity();
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
-    const CorrespondenceSet pairs =
-        FindCorrespondences(source_world, labels, map, max_correspondence_distance, config.mode,
-                            config.unknown_defers_to_map);
+    const bool reuse_pairs = moved_since_search < config.correspondence_reuse_distance;
+    if (!reuse_pairs) {
+      pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
+                                  config.mode, config.unknown_defers_to_map);
+      moved_since_search = 0.0;
+      ++result.searches;
+    }
     if (pairs.size() < static_cast<std::size_t>(config.min_correspondences)) break;
     result.enough_correspondences = true;
 
@@ -314,7 +333,8 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     }
     if (!dx.allFinite()) break;
     const Eigen::Isometry3d step = ExpSE3(dx);
-    Transform(step, source_world);
+    moved_since_search += Transform(step, source_world);
+    MoveSources(step, pairs);
     result.T_world_sensor = step * result.T_world_sensor;
 
     // Published degeneracy is the paper's analysis of the planar H_tt (what the point weights

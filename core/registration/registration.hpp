@@ -20,6 +20,7 @@ struct RegistrationResult {
   std::uint32_t num_planar = 0;
   std::uint32_t num_point = 0;
   int iterations = 0;
+  int searches = 0;  // correspondence searches: iterations minus those that reused the pairs
   bool converged = false;
   bool enough_correspondences = false;  // false: the pose is the initial guess, untouched
   // Full mode: the scan's own information on the pose (without the prior), absolute units.

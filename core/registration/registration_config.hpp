@@ -73,6 +73,11 @@ struct RegistrationConfig {
   // roughness): turns the data's normal equations into information in absolute units, so that
   // they weigh against the motion prior's.
   double residual_sigma = 0.02;
+  // After a Gauss-Newton step that moved no source point farther than this (metres), the next
+  // iteration keeps its pairs and only moves their source points: a nearest map point (map
+  // points lie voxel/sqrt(3) apart or more) does not change under a millimetre step, and the
+  // search is most of the registration's cost. 0: search on every iteration.
+  double correspondence_reuse_distance = 0.01;
   int min_correspondences = 30;         // fewer: the scan is not registered
   double covariance_regularisation = 1e-6;  // relative to trace(H)/6, keeps H invertible
 };

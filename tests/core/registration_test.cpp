@@ -311,6 +311,33 @@ INSTANTIATE_TEST_SUITE_P(Modes, KnownMotion,
                                            RegistrationMode::kPointToPoint),
                          [](const auto& info) { return std::string(Name(info.param)); });
 
+TEST(Registration, ReusedPairsConvergeToTheSamePoseWithFewerSearches) {
+  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
+  const VoxelHashMap map = MapOf(room);
+  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
+  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
+                          .Transformed(T_true.inverse());
+  // A tight criterion adds the millimetre tail of steps where reuse applies.
+  RegistrationConfig every_iteration;
+  every_iteration.convergence_criterion = 1e-7;
+  every_iteration.correspondence_reuse_distance = 0.0;
+  RegistrationConfig reusing = every_iteration;
+  reusing.correspondence_reuse_distance = 0.01;
+  const auto run = [&](const RegistrationConfig& config) {
+    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 1.0,
+                        0.3, config);
+  };
+  const RegistrationResult searched = run(every_iteration);
+  const RegistrationResult reused = run(reusing);
+  EXPECT_EQ(searched.searches, searched.iterations);
+  ASSERT_TRUE(reused.converged);
+  EXPECT_LT(reused.searches, reused.iterations);
+  // The first steps move the points by centimetres to decimetres: those searches stay.
+  EXPECT_GE(reused.searches, 2);
+  const Vector6d difference = LogSE3(searched.T_world_sensor.inverse() * reused.T_world_sensor);
+  EXPECT_LT(difference.norm(), 5e-4);
+}
+
 TEST(Registration, AlphaIsThePlanarShare) {
   auto room = test::BoxRoom(-4, 4, -3, 3, -1.5, 2.0, true, 0.25);
   for (std::size_t i = 0; i < room.labels.size(); i += 4) room.labels[i] = PointClass::Unknown;
