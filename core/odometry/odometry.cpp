@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "core/preprocess/deskew.hpp"
 
@@ -34,9 +36,15 @@ double MedianRange(const std::vector<Eigen::Vector3d>& points) {
 
 void TransformScan(const Eigen::Isometry3d& T, ClassifiedScan& scan) {
   if (T.isApprox(Eigen::Isometry3d::Identity())) return;
-  for (Eigen::Vector3d& p : scan.scan.points) p = T * p;
+  std::vector<Eigen::Vector3d>& points = scan.scan.points;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 8192), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) points[i] = T * points[i];
+  });
   const Eigen::Matrix3f R = T.linear().cast<float>();
-  for (Eigen::Vector3f& n : scan.normals) n = R * n;
+  std::vector<Eigen::Vector3f>& normals = scan.normals;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, normals.size(), 8192), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) normals[i] = R * normals[i];
+  });
 }
 
 template <typename T>
@@ -96,9 +104,8 @@ void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_
 Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const {
   if (!config_.deskew || !scan.scan.has_times()) return Eigen::Isometry3d::Identity();
   const Vector6d xi_scan = velocity * sensor_.scan_period;
-  DeskewScan(scan, ExpSE3(xi_scan), sensor_.scan_period);
   const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * xi_scan);
-  TransformScan(T_mid_start, scan);
+  DeskewScan(scan, ExpSE3(xi_scan), sensor_.scan_period, T_mid_start);
   return T_mid_start;
 }
 

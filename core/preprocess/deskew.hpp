@@ -8,9 +8,11 @@ namespace dammloam {
 // Motion compensation under a constant-velocity model: a point fired at time t (seconds since
 // the scan start) was measured in the sensor frame at fraction s = t / scan_period of the
 // scan's motion, so it moves to the scan-start frame by ScaleMotion(T_start_end, s)
-// (T_start_end: the sensor pose at scan end expressed in the scan-start frame). Normals are
-// rotated by the same rotation. Scans without per-point times are left unchanged, as are all
-// scans when scan_period is not positive.
-void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period);
+// (T_start_end: the sensor pose at scan end expressed in the scan-start frame), and from there
+// to the output frame by T_out_start (identity: the points stay in the scan-start frame).
+// Normals are rotated by the same rotation. Scans without per-point times are left unchanged,
+// as are all scans when scan_period is not positive.
+void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period,
+                const Eigen::Isometry3d& T_out_start = Eigen::Isometry3d::Identity());
 
 }  // namespace dammloam

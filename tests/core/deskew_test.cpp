@@ -64,6 +64,20 @@ TEST(Deskew, RestoresTheStartFrameGivenTheTrueMotion) {
   }
 }
 
+TEST(Deskew, ExpressesThePointsInTheRequestedFrame) {
+  MovingScan moving = SampleWhileMoving(Motion(), true);
+  const Eigen::Isometry3d T_out_start =
+      Eigen::Translation3d(0.4, -1.0, 0.2) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
+  DeskewScan(moving.scan, Motion(), kPeriod, T_out_start);
+  for (std::size_t i = 0; i < moving.start_points.size(); ++i) {
+    ASSERT_LT((moving.scan.scan.points[i] - T_out_start * moving.start_points[i]).norm(), 1e-9)
+        << "point " << i;
+    ASSERT_LT((moving.scan.normals[i] - (T_out_start.linear().cast<float>() *
+                                         moving.start_normals[i])).norm(), 1e-6)
+        << "normal " << i;
+  }
+}
+
 TEST(Deskew, WrongMotionDoesNotRestore) {
   MovingScan moving = SampleWhileMoving(Motion(), true);
   DeskewScan(moving.scan, Eigen::Isometry3d::Identity(), kPeriod);
