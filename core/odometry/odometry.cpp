@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/preprocess/deskew.hpp"
+#include "core/registration/degeneracy_weights.hpp"
 
 namespace dammloam {
 
@@ -142,12 +143,7 @@ Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
 // a degenerate one each scan's uncertainty adds to what has built up since the direction was
 // last observed.
 Matrix6d Odometry::PoseCovariance(const RegistrationResult& reg) {
-  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (!reg.degeneracy.degenerate[static_cast<std::size_t>(i)]) continue;
-    const Eigen::Vector3d v = reg.degeneracy.eigenvectors.col(i);
-    P.noalias() += v * v.transpose();
-  }
+  const Eigen::Matrix3d P = DegenerateProjector(reg.degeneracy);
   const Eigen::Matrix3d C = reg.covariance.topLeftCorner<3, 3>();
   const Eigen::Matrix3d Q = Eigen::Matrix3d::Identity() - P;
   unobserved_covariance_ = P * (unobserved_covariance_ + C) * P;

@@ -36,4 +36,14 @@ std::vector<double> DegeneracyWeights(const std::vector<Correspondence>& planar,
   return weights;
 }
 
+Eigen::Matrix3d DegenerateProjector(const DegeneracyReport& report) {
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!report.degenerate[i]) continue;
+    const Eigen::Vector3d v = report.eigenvectors.col(static_cast<Eigen::Index>(i));
+    P.noalias() += v * v.transpose();
+  }
+  return P;
+}
+
 }  // namespace dammloam

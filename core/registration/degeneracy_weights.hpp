@@ -21,6 +21,10 @@ Eigen::Matrix3d PlanarTranslationHessian(const std::vector<Correspondence>& plan
 // in the world frame); a direction is degenerate when lambda_i / lambda_max < ratio_threshold.
 DegeneracyReport AnalyseTranslation(const Eigen::Matrix3d& H_tt, double ratio_threshold);
 
+// Projector onto the span of the degenerate translational directions (zero if none): what the
+// remapping drops from a step, and where the odometry lets uncertainty build up.
+Eigen::Matrix3d DegenerateProjector(const DegeneracyReport& report);
+
 // Paper eqs. observability_score, weighted_observability, weight_computation:
 // C_t = |I_t V_t|, columns scaled by lambda_i / lambda_max, w_i = ||row_i||_2 in [0, 1].
 std::vector<double> DegeneracyWeights(const std::vector<Correspondence>& planar,

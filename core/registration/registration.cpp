@@ -100,13 +100,7 @@ Matrix6d Regularised(const Matrix6d& H, double relative) {
 // Solution remapping: keep only the part of the translation step that lies in
 // well-constrained eigen-directions.
 void RemapDegenerateTranslation(const DegeneracyReport& report, Vector6d& dx) {
-  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (!report.degenerate[i]) {
-      P.noalias() += report.eigenvectors.col(i) * report.eigenvectors.col(i).transpose();
-    }
-  }
-  dx.head<3>() = P * dx.head<3>();
+  dx.head<3>() -= DegenerateProjector(report) * dx.head<3>();
 }
 
 // Degeneracy weighting of a point residual: its component along eigen-direction i is scaled
