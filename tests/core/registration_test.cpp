@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "core/geometry/se3.hpp"
 #include "core/map/voxel_hash_map.hpp"
@@ -25,6 +26,32 @@ Correspondence WithNormal(const Eigen::Vector3d& n) {
 
 double AngleToX(const Eigen::Vector3d& v) {
   return std::acos(std::min(1.0, std::abs(v.normalized().x()))) * 180.0 / M_PI;
+}
+
+// A 60 m x 2.4 m corridor, x along its axis.
+test::LabelledCloud Corridor() { return test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1); }
+
+// The map and the scan (world frame) of a corridor whose four corner lines are sampled as edges
+// every 0.3 m, the scan's samples a third of the spacing further along the axis than the map's:
+// the ring pattern's bias on point pairs.
+std::pair<test::LabelledCloud, test::LabelledCloud> CorridorWithShiftedCornerLines() {
+  test::LabelledCloud map_cloud = Corridor();
+  test::LabelledCloud scan_world = map_cloud;
+  for (double x = -30.0; x <= 30.0; x += 0.3) {
+    for (const auto& [y, z] : {std::pair{-1.2, -1.0}, {1.2, -1.0}, {-1.2, 1.8}, {1.2, 1.8}}) {
+      map_cloud.Add({x, y, z}, PointClass::Edge, {0, 0, 0});
+      scan_world.Add({x + 0.1, y, z}, PointClass::Edge, {0, 0, 0});
+    }
+  }
+  return {map_cloud, scan_world};
+}
+
+// Full mode's motion prior: 2 cm on the position, 0.05 rad on the orientation.
+MotionPrior TwoCentimetrePrior() {
+  MotionPrior prior;
+  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
+  prior.rotation_sigma = 0.05;
+  return prior;
 }
 
 TEST(DegeneracyWeights, CorridorWeakestDirectionIsX) {
@@ -114,7 +141,7 @@ TEST(Correspondences, UnknownSourcePointDefersToTheMapClass) {
 // The Jacobian order [t; r] pinned on the real registration: in a corridor along x, the
 // weakest translational eigen-direction of the Hessian must be +-x and flagged degenerate.
 TEST(Registration, CorridorDegenerateAxisIsX) {
-  const auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
+  const auto corridor = Corridor();
   const VoxelHashMap map = MapOf(corridor);
   const Eigen::Isometry3d T_true = test::MakePose(0.5, 0.1, 0.05, 0.0, 0.0, 0.02);
   const auto source = corridor.Transformed(T_true.inverse());
@@ -140,15 +167,7 @@ TEST(Registration, CorridorDegenerateAxisIsX) {
 // axis the planes leave free. Weighted per eigen-direction like planar normals, those pairs
 // cannot move the degenerate axis; unweighted, they drag it by a sizeable part of the spacing.
 TEST(Registration, PointPairsCannotDragTheDegenerateAxis) {
-  auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
-  test::LabelledCloud map_cloud = corridor;
-  test::LabelledCloud scan_world = corridor;
-  for (double x = -30.0; x <= 30.0; x += 0.3) {
-    for (const auto& [y, z] : {std::pair{-1.2, -1.0}, {1.2, -1.0}, {-1.2, 1.8}, {1.2, 1.8}}) {
-      map_cloud.Add({x, y, z}, PointClass::Edge, {0, 0, 0});
-      scan_world.Add({x + 0.1, y, z}, PointClass::Edge, {0, 0, 0});  // a third of the spacing off
-    }
-  }
+  const auto [map_cloud, scan_world] = CorridorWithShiftedCornerLines();
   const VoxelHashMap map = MapOf(map_cloud);
   const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.05, 0.0, 0.0, 0.0, 0.01);
   const auto source = scan_world.Transformed(T_true.inverse());
@@ -180,22 +199,12 @@ TEST(Registration, PointPairsCannotDragTheDegenerateAxis) {
 // every scan sample a third of the spacing off the map's they pull along the axis. The prior
 // holds the pull within its own sigma (2 cm); across the corridor the data wins by far.
 TEST(Registration, FullModeKeepsThePriorAlongACorridorOfCornerLines) {
-  auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
-  test::LabelledCloud map_cloud = corridor;
-  test::LabelledCloud scan_world = corridor;
-  for (double x = -30.0; x <= 30.0; x += 0.3) {
-    for (const auto& [y, z] : {std::pair{-1.2, -1.0}, {1.2, -1.0}, {-1.2, 1.8}, {1.2, 1.8}}) {
-      map_cloud.Add({x, y, z}, PointClass::Edge, {0, 0, 0});
-      scan_world.Add({x + 0.1, y, z}, PointClass::Edge, {0, 0, 0});
-    }
-  }
+  const auto [map_cloud, scan_world] = CorridorWithShiftedCornerLines();
   const VoxelHashMap map = MapOf(map_cloud);
   const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.05, 0.0, 0.0, 0.0, 0.01);
   const auto source = scan_world.Transformed(T_true.inverse());
   const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.02, 0.0, 0.0, 0.0);
-  MotionPrior prior;
-  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
-  prior.rotation_sigma = 0.05;
+  const MotionPrior prior = TwoCentimetrePrior();
   const RegistrationResult r =
       RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, RegistrationConfig{}, prior);
   ASSERT_TRUE(r.enough_correspondences);
@@ -237,9 +246,7 @@ TEST(Registration, FullModeTreatsPointPairsOnAWallAsPlanes) {
   const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.05, 0.0, 0.0, 0.0, 0.0);
   const auto source = scan_world.Transformed(T_true.inverse());
   const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
-  MotionPrior prior;
-  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
-  prior.rotation_sigma = 0.05;
+  const MotionPrior prior = TwoCentimetrePrior();
   RegistrationConfig config;
   const RegistrationResult r = RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3,
                                             config, prior);
@@ -260,9 +267,8 @@ TEST(Registration, FullModeTreatsPointPairsOnAWallAsPlanes) {
 // Full mode: an end wall only a few points large, facing the axis, still moves the estimate
 // along it against the prior (what a door jamb or a far end wall does in a real corridor).
 TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
-  auto corridor = test::BoxRoom(-30, 30, -1.2, 1.2, -1.0, 1.8, false, 0.1);
-  test::LabelledCloud map_cloud = corridor;
-  test::LabelledCloud scan_world = corridor;
+  test::LabelledCloud map_cloud = Corridor();
+  test::LabelledCloud scan_world = map_cloud;
   for (double y = -0.3; y <= 0.3; y += 0.15) {
     for (double z = -0.2; z <= 0.2; z += 0.2) {
       map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
@@ -273,9 +279,7 @@ TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
   const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
   const auto source = scan_world.Transformed(T_true.inverse());
   const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);  // 5 cm short
-  MotionPrior prior;
-  prior.translation_information = Eigen::Matrix3d::Identity() / (0.02 * 0.02);
-  prior.rotation_sigma = 0.05;
+  const MotionPrior prior = TwoCentimetrePrior();
   const RegistrationResult r =
       RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, RegistrationConfig{}, prior);
   ASSERT_TRUE(r.enough_correspondences);
