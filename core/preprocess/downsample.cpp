@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/geometry/voxel.hpp"
 
@@ -38,11 +39,15 @@ std::vector<std::size_t> ClassAwareDownsampler::Select(const std::vector<Eigen::
   grid_.clear();  // keeps its buckets: no allocation once the first scans sized it
   grid_.reserve(points.size() / 4 + 1);
   kept.reserve(std::min(points.size(), 2 * config_.target_points));
+  // Consecutive points (one firing, top to bottom) often share a cell; the second one cannot be
+  // kept whatever the table says, so it skips the lookup.
+  std::optional<ClassVoxel> previous;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::size_t c = std::min<std::size_t>(Index(labels[i]), kNumPointClasses - 1);
-    if (grid_.insert({PointToVoxel(points[i], voxel_sizes_[c]), labels[i]}).second) {
-      kept.push_back(i);
-    }
+    const ClassVoxel key{PointToVoxel(points[i], voxel_sizes_[c]), labels[i]};
+    if (previous == key) continue;
+    previous = key;
+    if (grid_.insert(key).second) kept.push_back(i);
   }
   Adapt(kept.size());
   return kept;
