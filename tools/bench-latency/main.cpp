@@ -1,175 +1,110 @@
 // dammloam-bench-latency: end-to-end latency of dammloamd over DDS (publish of a scan -> receipt
-// of its pose, median and p99) for simulated OS1-64 x 1024 scans at fixed rates, and the highest
-// rate sustained without drops. Starts one fresh dammloamd per rate (or uses --external).
+// of its pose, median and p99). Two modes:
+//  - simulated (default): OS1-64 x 1024 (or --sensor) scans at fixed rates, and the highest rate
+//    sustained without drops; one fresh dammloamd per rate (or --external);
+//  - --sequence DIR: a recorded sequence directory replayed at its recorded instants (times.txt,
+//    --speed), with drops counted by us and by the daemon's Status; dammloamd gets the sequence's
+//    meta.json.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
-#include <map>
-#include <sstream>
-#include <thread>
+#include <optional>
 
+#include "tools/bench-latency/daemon_child.hpp"
+#include "tools/bench-latency/latency_run.hpp"
+#include "tools/bench-latency/report.hpp"
+#include "tools/bench-latency/sequence_source.hpp"
 #include "tools/common/dds_tool_main.hpp"
-#include "services/dds/dds.hpp"
-#include "services/dds/point_cloud.hpp"
-#include "services/dds/topics.hpp"
+#include "tools/common/sequence_io.hpp"
 #include "tools/common/sequence_meta.hpp"
 #include "tools/simulate/simulator.hpp"
 
-extern char** environ;
-
 namespace {
 
-using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
 using namespace dammloam;
+using bench::RunResult;
 
 struct Options {
   std::uint32_t domain = 90;
   int scans = 100;
+  bool scans_given = false;  // a sequence runs whole unless --scans is given
   std::vector<double> rates = {10.0, 20.0};
   std::vector<double> sweep = {25.0, 30.0, 40.0};
   std::vector<double> fallback = {5.0, 2.0, 1.0};  // tried downwards when no rate held
   std::string sensor = "os1-64";
   std::string scene = "corridor";
+  std::string sequence;           // empty: simulated mode
+  double speed = 1.0;             // over the recorded rate
+  std::size_t read_ahead = 32;    // scans (an OS1-64 sample is ~1.5 MiB)
+  std::string json_path;
   bool external = false;
   std::string daemon_args;
   bool allow_default_network = false;
 };
 
-struct RunResult {
-  double rate = 0;
-  std::size_t sent = 0, received = 0;
-  double median_ms = 0, p99_ms = 0, max_ms = 0;
-  double core_median_ms = 0;  // Odometry.processing_ms: features + registration + map
-  bool sustained() const { return received == sent; }
-};
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+// A file of this process in the temporary directory (meta.json, the daemon's log).
+fs::path TempPath(const std::string& suffix) {
+  return fs::temp_directory_path() /
+         ("dammloam-bench-latency-" + std::to_string(::getpid()) + suffix);
 }
 
-// dammloamd next to this executable, as a child process; killed (SIGTERM) by the destructor.
-class DaemonChild {
+// Simulated clouds held in memory, restamped per run so that the stamps keep increasing.
+class SimulatedSource : public bench::ScanSource {
  public:
-  DaemonChild(const Options& o, const std::filesystem::path& meta) {
-    const std::string exe = (std::filesystem::read_symlink("/proc/self/exe").parent_path() /
-                             "dammloamd").string();
-    std::vector<std::string> args = {exe, "--domain", std::to_string(o.domain), "--sensor-meta",
-                                     meta.string(), "--no-loop-closure", "--log-level", "warn"};
-    std::istringstream extra(o.daemon_args);
-    for (std::string a; extra >> a;) args.push_back(a);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    // The daemon's log (drop warnings) goes to a file next to the temporary meta.json.
-    const std::string log = meta.string() + ".dammloamd.log";
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    const int rc = posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) throw std::runtime_error("cannot start " + exe);
+  SimulatedSource(const std::vector<dds::CloudMessage>& clouds, double rate, double stamp_base)
+      : clouds_(clouds), rate_(rate), stamp_base_(stamp_base) {}
+  std::size_t size() const override { return clouds_.size(); }
+  bench::Clock::duration DueAfterStart(std::size_t index) const override {
+    return std::chrono::duration_cast<bench::Clock::duration>(
+        std::chrono::duration<double>(static_cast<double>(index) / rate_));
   }
-  ~DaemonChild() {
-    kill(pid_, SIGTERM);
-    waitpid(pid_, nullptr, 0);
+  std::optional<dds::CloudMessage> TryTake(std::size_t index) override {
+    dds::CloudMessage cloud = clouds_[index];
+    cloud.stamp = dds::ToMsgTime(stamp_base_ + static_cast<double>(index) / rate_);
+    return cloud;
   }
 
  private:
-  pid_t pid_ = -1;
+  const std::vector<dds::CloudMessage>& clouds_;
+  double rate_, stamp_base_;
 };
 
-RunResult RunRate(const Options& o, const std::vector<dds::CloudMessage>& clouds, double rate,
-                  double stamp_base) {
-  dds::Participant participant(static_cast<dds_domainid_t>(o.domain));
-  const dds::TopicNames names;
-  dds::Topic points_topic(participant, dammloam_msg_PointCloud_desc, names.points, dds::PointsQos());
-  dds::Writer<dammloam_msg_PointCloud> writer(participant, points_topic, dds::PointsQos());
-  dds::Topic odom_topic(participant, dammloam_msg_Odometry_desc, names.odometry, dds::OdometryQos());
-  dds::Reader<dammloam_msg_Odometry> reader(participant, odom_topic, {true, 1000, false});
-  if (!writer.WaitForReaders(1, std::chrono::seconds(30))) {
-    throw std::runtime_error("no dammloamd on domain " + std::to_string(o.domain));
+std::vector<dds::CloudMessage> SimulateClouds(const sim::Simulator& simulator, const Options& o) {
+  spdlog::info("simulating {} {} scans in {}...", o.scans, o.sensor, o.scene);
+  std::vector<dds::CloudMessage> clouds;
+  for (int i = 0; i < o.scans; ++i) {
+    clouds.push_back(
+        dds::ScanToCloud(simulator.SimulateScan(i), "lidar", static_cast<std::uint64_t>(i)));
   }
-  while (reader.MatchedWriters() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // discovery settles
-
-  std::map<std::pair<std::int32_t, std::uint32_t>, Clock::time_point> sent_at;
-  std::vector<double> latencies_ms, processing_ms;
-  const auto take = [&] {
-    reader.TakeEach([&](const dammloam_msg_Odometry& m, const dds_sample_info_t&) {
-      const auto it = sent_at.find({m.header.stamp.sec, m.header.stamp.nanosec});
-      if (it == sent_at.end()) return;
-      latencies_ms.push_back(
-          std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
-      processing_ms.push_back(m.processing_ms);
-    }, 64);
-  };
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate));
-  const auto t0 = Clock::now();
-  for (std::size_t k = 0; k < clouds.size(); ++k) {
-    dds::CloudMessage cloud = clouds[k];
-    cloud.stamp = dds::ToMsgTime(stamp_base + static_cast<double>(k) / rate);
-    const auto due = t0 + static_cast<long>(k) * period;
-    while (Clock::now() < due) {
-      take();
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
-    }
-    sent_at[{cloud.stamp.sec, cloud.stamp.nanosec}] = Clock::now();
-    writer.Write(dds::CloudView(cloud).get());
-  }
-  const auto deadline = Clock::now() + std::chrono::seconds(3);
-  while (Clock::now() < deadline && latencies_ms.size() < clouds.size()) {
-    take();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  RunResult r;
-  r.rate = rate;
-  r.sent = clouds.size();
-  r.received = latencies_ms.size();
-  r.median_ms = Percentile(latencies_ms, 0.5);
-  r.p99_ms = Percentile(latencies_ms, 0.99);
-  r.core_median_ms = Percentile(processing_ms, 0.5);
-  r.max_ms = latencies_ms.empty() ? 0.0 : *std::max_element(latencies_ms.begin(), latencies_ms.end());
-  return r;
+  spdlog::info("{} points per scan, {:.1f} MiB per sample", clouds.front().width,
+               static_cast<double>(clouds.front().data.size()) / (1 << 20));
+  return clouds;
 }
 
-int Run(const Options& o) {
+int RunSimulated(const Options& o) {
   const auto sensor_spec = sim::MakeSensorSpec(o.sensor);
   const auto scene = sim::ParseSceneKind(o.scene);
   if (!sensor_spec || !scene) throw std::runtime_error("unknown --sensor or --scene");
   sim::SimOptions sim_options;
   sim_options.num_scans = o.scans;
   const sim::Simulator simulator(*scene, *sensor_spec, sim_options);
-  spdlog::info("simulating {} {} scans in {}...", o.scans, o.sensor, o.scene);
-  std::vector<dds::CloudMessage> clouds;
-  for (int i = 0; i < o.scans; ++i) {
-    clouds.push_back(dds::ScanToCloud(simulator.SimulateScan(i), "lidar", static_cast<std::uint64_t>(i)));
-  }
-  spdlog::info("{} points per scan, {:.1f} MiB per sample", clouds.front().width,
-               static_cast<double>(clouds.front().data.size()) / (1 << 20));
-  const auto meta_path = std::filesystem::temp_directory_path() /
-                         ("dammloam-bench-latency-" + std::to_string(::getpid()) + ".json");
+  const std::vector<dds::CloudMessage> clouds = SimulateClouds(simulator, o);
+  const fs::path meta_path = TempPath(".json");
   io::WriteMeta(meta_path, {o.sensor, simulator.sensor_model(), io::PointLayout::kXYZITR});
 
   std::vector<RunResult> results;
   const auto run = [&](double rate) {
-    std::optional<DaemonChild> daemon;
-    if (!o.external) daemon.emplace(o, meta_path);
-    const RunResult r = RunRate(o, clouds, rate, 1700000000.0 + 100000.0 * static_cast<double>(results.size()));
-    std::printf("rate %5.1f Hz: %zu/%zu poses, latency median %.1f ms, p99 %.1f ms, max %.1f ms, "
-                "core median %.1f ms/scan%s\n", r.rate, r.received, r.sent, r.median_ms, r.p99_ms,
-                r.max_ms, r.core_median_ms, r.sustained() ? "" : "  (DROPS)");
-    std::fflush(stdout);
+    std::optional<bench::DaemonChild> daemon;
+    if (!o.external) daemon.emplace(o.domain, meta_path, o.daemon_args, TempPath(".dammloamd.log"));
+    SimulatedSource source(clouds, rate,
+                           1700000000.0 + 100000.0 * static_cast<double>(results.size()));
+    RunResult r = bench::RunScans({o.domain, false, ""}, source);
+    r.rate = rate;
+    bench::PrintRateRow(r);
     results.push_back(r);
     return r;
   };
@@ -191,27 +126,134 @@ int Run(const Options& o) {
       }
     }
   }
-  std::filesystem::remove(meta_path);
+  fs::remove(meta_path);
   std::printf("highest rate sustained without drops: %.1f Hz (of those tried)\n", best);
+  if (!o.json_path.empty()) {
+    nlohmann::json report{{"mode", "simulated"}, {"sensor", o.sensor}, {"scene", o.scene},
+                          {"scans", o.scans}, {"highest_sustained_hz", best},
+                          {"runs", nlohmann::json::array()}};
+    for (const auto& r : results) report["runs"].push_back(bench::ToJson(r));
+    bench::WriteJson(o.json_path, report);
+  }
   return 0;
 }
+
+// dammloamd reads its sensor from a meta.json: the sequence's own, or for a KITTI folder (which
+// has none) the reader's assumed sensor written to a temporary file.
+fs::path SensorMetaFor(const io::SequenceReader& sequence) {
+  const fs::path own = sequence.dir() / "meta.json";
+  if (fs::exists(own)) return own;
+  const fs::path written = TempPath(".json");
+  io::WriteMeta(written, sequence.meta());
+  return written;
+}
+
+std::size_t SequenceScanCount(const Options& o, const io::SequenceReader& sequence) {
+  const std::size_t whole = sequence.size();
+  if (!o.scans_given) return whole;
+  const auto asked = static_cast<std::size_t>(o.scans);
+  if (asked > whole) {
+    spdlog::warn("--scans {}: {} has only {} scans; replaying all of them", asked,
+                 sequence.dir().string(), whole);
+  }
+  return std::min(asked, whole);
+}
+
+// What the replay itself cost: how the read-ahead kept up and the benchmark's memory.
+struct ReplayCost {
+  std::size_t lowest_fill = 0;
+  double read_ms = 0.0, peak_rss_mib = 0.0;
+};
+
+void PrintReplayCost(const Options& o, const ReplayCost& c, const fs::path& log) {
+  std::printf("  read-ahead %zu scans: lowest fill %zu, read+convert mean %.1f ms/scan; bench "
+              "peak RSS %.0f MiB\n", o.read_ahead, c.lowest_fill, c.read_ms, c.peak_rss_mib);
+  if (!o.external) std::printf("  dammloamd log: %s\n", log.c_str());
+  std::fflush(stdout);
+}
+
+void WriteSequenceJson(const Options& o, const RunResult& r, const ReplayCost& c) {
+  nlohmann::json report{{"mode", "sequence"},
+                        {"sequence", o.sequence},
+                        {"speed", o.speed},
+                        {"read_ahead", o.read_ahead},
+                        {"read_ahead_lowest_fill", c.lowest_fill},
+                        {"read_ms_mean", c.read_ms},
+                        {"peak_rss_mib", c.peak_rss_mib},
+                        {"runs", nlohmann::json::array({bench::ToJson(r)})}};
+  bench::WriteJson(o.json_path, report);
+}
+
+int RunSequence(const Options& o) {
+  const io::SequenceReader sequence = io::SequenceReader::Open(o.sequence);
+  const std::size_t count = SequenceScanCount(o, sequence);
+  bench::CheckScanFileSizes(sequence, count);
+  const fs::path meta = SensorMetaFor(sequence);
+  const fs::path log = TempPath(".dammloamd.log");
+  bench::SequenceSource source(sequence, count, o.speed, o.read_ahead);
+  spdlog::info("sequence {}: {} of {} {} scans at {:.2f} Hz ({}x the recorded rate), read-ahead {}",
+               o.sequence, count, sequence.size(), sequence.meta().sensor, source.Rate(), o.speed,
+               o.read_ahead);
+  std::optional<bench::DaemonChild> daemon;
+  if (!o.external) daemon.emplace(o.domain, meta, o.daemon_args, log);
+  source.WaitUntilFilled();
+  RunResult r = bench::RunScans(
+      {o.domain, true, o.external ? "" : "it was started with its log in " + log.string()},
+      source);
+  r.rate = source.Rate();
+  daemon.reset();
+  if (meta != sequence.dir() / "meta.json") fs::remove(meta);
+  const ReplayCost cost{source.LowestFill(), source.MeanReadMs(), bench::PeakResidentMiB()};
+  bench::PrintRateRow(r);
+  bench::PrintDrops(r);
+  PrintReplayCost(o, cost, log);
+  if (!o.json_path.empty()) WriteSequenceJson(o, r, cost);
+  return 0;
+}
+
+int Run(const Options& o) { return o.sequence.empty() ? RunSimulated(o) : RunSequence(o); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"dammloam-bench-latency: dammloamd end-to-end latency over DDS"};
+  CLI::App app{
+      "dammloam-bench-latency: dammloamd end-to-end latency over DDS (publish of a scan -> its "
+      "pose), on simulated scans at fixed rates or on a recorded sequence at its recorded rate"};
+  app.footer(
+      "Examples (CYCLONEDDS_URI=file://$PWD/deploy/cyclonedds-loopback.xml):\n"
+      "  dammloam-bench-latency --rates 10,20            simulated OS1-64 scans, then a sweep\n"
+      "  dammloam-bench-latency --sequence SEQ_DIR --scans 300 [--speed 2] [--json out.json]");
   app.add_option("--domain", o.domain, "DDS domain id");
-  app.add_option("--scans", o.scans, "scans per rate")->check(CLI::PositiveNumber);
-  app.add_option("--rates", o.rates, "rates to measure, Hz")->delimiter(',');
-  app.add_option("--sweep", o.sweep, "higher rates tried until drops appear, Hz")->delimiter(',');
-  app.add_option("--sensor", o.sensor, "simulated sensor (os1-64, vlp-16)");
-  app.add_option("--scene", o.scene, "simulated scene");
-  app.add_option("--fallback", o.fallback, "lower rates tried when none held, Hz")->delimiter(',');
+  auto* scans = app.add_option("--scans", o.scans,
+                               "scans per rate (simulated, default 100); with --sequence: the "
+                               "first N scans (default: all)")
+                    ->check(CLI::PositiveNumber);
+  auto* sequence = app.add_option(
+      "--sequence", o.sequence,
+      "replay this sequence directory (meta.json, times.txt, scans/) at the instants of its "
+      "times.txt and report drops (ours and dammloamd's Status) and latency; dammloamd gets its "
+      "meta.json as --sensor-meta");
+  app.add_option("--speed", o.speed, "with --sequence: speed factor over the recorded rate")
+      ->check(CLI::PositiveNumber)->needs(sequence);
+  app.add_option("--read-ahead", o.read_ahead,
+                 "with --sequence: scans read ahead of the publisher on another thread "
+                 "(memory: about N x 1.5 MiB for OS1-64)")
+      ->check(CLI::PositiveNumber)->needs(sequence);
+  app.add_option("--rates", o.rates, "rates to measure, Hz (simulated)")->delimiter(',')
+      ->excludes(sequence);
+  app.add_option("--sweep", o.sweep, "higher rates tried until drops appear, Hz (simulated)")
+      ->delimiter(',')->excludes(sequence);
+  app.add_option("--sensor", o.sensor, "simulated sensor (os1-64, vlp-16)")->excludes(sequence);
+  app.add_option("--scene", o.scene, "simulated scene")->excludes(sequence);
+  app.add_option("--fallback", o.fallback, "lower rates tried when none held, Hz (simulated)")
+      ->delimiter(',')->excludes(sequence);
+  app.add_option("--json", o.json_path, "also write the numbers to this JSON file");
   app.add_flag("--external", o.external, "use a running dammloamd instead of starting one");
   app.add_option("--daemon-args", o.daemon_args, "extra dammloamd arguments");
   app.add_flag("--allow-default-network", o.allow_default_network,
                "run without CYCLONEDDS_URI (uses the default network interface)");
   CLI11_PARSE(app, argc, argv);
+  o.scans_given = scans->count() > 0;
   return tools::RunDdsTool(o.allow_default_network, [&] { return Run(o); });
 }
