@@ -33,7 +33,7 @@ struct LoopConstraint {
 };
 
 // Everything a saved map holds; produced by LoopClosingBackend::ExportMap(), consumed by
-// Localizer and by the map store in tools/mapstore.
+// Localizer and by the map store in io/mapstore.
 struct MapData {
   ScanContextConfig scan_context;       // descriptors are only comparable under one config
   std::vector<Keyframe> keyframes;

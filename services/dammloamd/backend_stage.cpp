@@ -7,7 +7,7 @@
 #include "services/dds/messages.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 namespace dammloam::daemon {
 namespace {

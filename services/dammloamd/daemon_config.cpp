@@ -7,7 +7,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "tools/common/config_yaml.hpp"
+#include "io/config_yaml.hpp"
 
 namespace dammloam::daemon {
 namespace {

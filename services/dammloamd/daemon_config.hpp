@@ -1,6 +1,6 @@
 #pragma once
 // dammloamd configuration: the `dammloamd` section of the YAML file (this struct) and the
-// `odometry` section (OdometryConfig, parsed by tools/common/config_yaml).
+// `odometry` section (OdometryConfig, parsed by io/config_yaml).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

@@ -8,9 +8,9 @@
 
 #include "services/dammloamd/daemon.hpp"
 #include "services/dds/network_guard.hpp"
-#include "tools/common/config_yaml.hpp"
-#include "tools/common/io_error.hpp"
-#include "tools/common/sequence_meta.hpp"
+#include "io/config_yaml.hpp"
+#include "io/io_error.hpp"
+#include "io/sequence_meta.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/geometry/se3.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 namespace dammloam::daemon {
 

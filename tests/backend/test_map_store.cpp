@@ -6,7 +6,7 @@
 #include <random>
 
 #include "core/backend/scan_context.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 namespace dammloam::mapstore {
 namespace {

@@ -10,7 +10,7 @@
 #include "core/backend/localizer.hpp"
 #include "core/backend/loop_closing_backend.hpp"
 #include "tests/backend/sim_run.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 namespace dammloam::backend {
 namespace {

@@ -15,7 +15,7 @@
 #include "drivers/ouster/cloud.hpp"
 #include "drivers/ouster/packet_decoder.hpp"
 #include "test_data.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 
 extern char** environ;
 

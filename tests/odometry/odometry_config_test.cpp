@@ -5,7 +5,7 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
-#include "tools/common/config_yaml.hpp"
+#include "io/config_yaml.hpp"
 
 namespace dammloam {
 namespace {

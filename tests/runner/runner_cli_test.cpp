@@ -10,8 +10,8 @@
 #include <map>
 
 #include "tests/tools/test_support.hpp"
-#include "tools/common/sequence_io.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/sequence_io.hpp"
+#include "io/mapstore/map_store.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace dammloam {

@@ -8,7 +8,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace dammloam::test {

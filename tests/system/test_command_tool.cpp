@@ -14,7 +14,7 @@
 #include "tests/system/child_process.hpp"
 #include "tests/system/dds_test_client.hpp"
 #include "tests/system/sim_sequence.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 namespace dammloam::test {
 namespace {

@@ -7,7 +7,7 @@
 #include "tests/system/child_process.hpp"
 #include "tests/system/dds_test_client.hpp"
 #include "tests/system/sim_sequence.hpp"
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 
 namespace dammloam::test {
 namespace {

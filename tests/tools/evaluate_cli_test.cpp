@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/tools/test_support.hpp"
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 
 namespace dammloam::eval {
 namespace {

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "tests/tools/test_support.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "core/geometry/se3.hpp"
 #include "tests/tools/test_support.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "tests/tools/test_support.hpp"
-#include "tools/common/io_error.hpp"
-#include "tools/common/pcd/labelled_pcd.hpp"
+#include "io/io_error.hpp"
+#include "io/pcd/labelled_pcd.hpp"
 
 namespace dammloam::io {
 namespace {

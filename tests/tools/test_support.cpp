@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 namespace dammloam::test {
 

@@ -18,8 +18,8 @@
 #include "tools/bench-latency/report.hpp"
 #include "tools/bench-latency/sequence_source.hpp"
 #include "tools/common/dds_tool_main.hpp"
-#include "tools/common/sequence_io.hpp"
-#include "tools/common/sequence_meta.hpp"
+#include "io/sequence_io.hpp"
+#include "io/sequence_meta.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "tools/bench-latency/latency_run.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 
 namespace dammloam::bench {
 

@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "tools/benchmark/sim_run.hpp"
-#include "tools/common/config_yaml.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/config_yaml.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/simulate/presets.hpp"
 
 extern char** environ;

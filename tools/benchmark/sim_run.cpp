@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "core/odometry/pipeline.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"
 

@@ -10,7 +10,7 @@
 #include "core/geometry/scan.hpp"
 #include "core/odometry/odometry_config.hpp"
 #include "core/odometry/odometry_result.hpp"
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace dammloam::bench {

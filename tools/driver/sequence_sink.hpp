@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/driver/scan_sink.hpp"
 
 namespace dammloam::driver {

@@ -1,7 +1,7 @@
 #pragma once
 #include <vector>
 
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 
 namespace dammloam::eval {
 

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "tools/common/io_error.hpp"
-#include "tools/common/tum.hpp"
+#include "io/io_error.hpp"
+#include "io/tum.hpp"
 #include "tools/evaluate/metrics_report.hpp"
 #include "tools/evaluate/svg_plot.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"

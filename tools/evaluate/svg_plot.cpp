@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 namespace dammloam::eval {
 namespace {

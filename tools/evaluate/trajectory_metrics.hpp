@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 #include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/error_stats.hpp"
 

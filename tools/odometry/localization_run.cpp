@@ -6,9 +6,9 @@
 
 #include "core/backend/localizer.hpp"
 #include "core/odometry/pipeline.hpp"
-#include "tools/common/config_yaml.hpp"
-#include "tools/common/sequence_io.hpp"
-#include "tools/mapstore/map_store.hpp"
+#include "io/config_yaml.hpp"
+#include "io/sequence_io.hpp"
+#include "io/mapstore/map_store.hpp"
 #include "tools/odometry/runner.hpp"
 
 namespace dammloam::tools {

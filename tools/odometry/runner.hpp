@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 
 // The two modes of dammloam-odometry. main.cpp only parses the command line.
 namespace dammloam::tools {

@@ -3,7 +3,7 @@
 #include <iomanip>
 #include <stdexcept>
 
-#include "tools/common/process_memory.hpp"
+#include "io/process_memory.hpp"
 
 namespace dammloam::tools {
 

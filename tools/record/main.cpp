@@ -15,8 +15,8 @@
 #include "services/dds/messages.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
-#include "tools/common/pcd/labelled_pcd.hpp"
-#include "tools/common/tum.hpp"
+#include "io/pcd/labelled_pcd.hpp"
+#include "io/tum.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "services/dds/dds.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/common/sequence_io.hpp"
+#include "io/sequence_io.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 

@@ -5,7 +5,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 namespace dammloam::mapstore {
 

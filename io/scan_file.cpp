@@ -1,4 +1,4 @@
-#include "tools/common/scan_file.hpp"
+#include "io/scan_file.hpp"
 
 #include <bit>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "tools/common/io_error.hpp"
-#include "tools/common/number_text.hpp"
+#include "io/io_error.hpp"
+#include "io/number_text.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -1,4 +1,4 @@
-#include "tools/common/number_text.hpp"
+#include "io/number_text.hpp"
 
 #include <array>
 #include <charconv>

@@ -1,4 +1,4 @@
-#include "tools/mapstore/map_store.hpp"
+#include "io/mapstore/map_store.hpp"
 
 #include <unistd.h>
 
@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "tools/common/pcd/labelled_pcd.hpp"
-#include "tools/mapstore/binary_io.hpp"
+#include "io/pcd/labelled_pcd.hpp"
+#include "io/mapstore/binary_io.hpp"
 
 namespace dammloam::mapstore {
 

@@ -1,4 +1,4 @@
-#include "tools/common/pcd/labelled_pcd.hpp"
+#include "io/pcd/labelled_pcd.hpp"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/exceptions.h>
@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 namespace dammloam::io {
 namespace {

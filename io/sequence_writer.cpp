@@ -1,9 +1,9 @@
 #include <fstream>
 #include <string>
 
-#include "tools/common/number_text.hpp"
-#include "tools/common/sequence_io.hpp"
-#include "tools/common/times_file.hpp"
+#include "io/number_text.hpp"
+#include "io/sequence_io.hpp"
+#include "io/times_file.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -1,9 +1,9 @@
-#include "tools/common/sequence_meta.hpp"
+#include "io/sequence_meta.hpp"
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "core/geometry/scan.hpp"
-#include "tools/common/sequence_meta.hpp"
+#include "io/sequence_meta.hpp"
 
 namespace dammloam::io {
 

@@ -1,4 +1,4 @@
-#include "tools/common/config_yaml.hpp"
+#include "io/config_yaml.hpp"
 
 #include <set>
 #include <sstream>

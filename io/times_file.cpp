@@ -1,11 +1,11 @@
-#include "tools/common/times_file.hpp"
+#include "io/times_file.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <string>
 
-#include "tools/common/io_error.hpp"
-#include "tools/common/number_text.hpp"
+#include "io/io_error.hpp"
+#include "io/number_text.hpp"
 
 namespace dammloam::io {
 

@@ -5,10 +5,10 @@
 #include <vector>
 
 #include "core/geometry/scan.hpp"
-#include "tools/common/io_error.hpp"
-#include "tools/common/scan_file.hpp"
-#include "tools/common/sequence_meta.hpp"
-#include "tools/common/tum.hpp"
+#include "io/io_error.hpp"
+#include "io/scan_file.hpp"
+#include "io/sequence_meta.hpp"
+#include "io/tum.hpp"
 
 // Sequence directories (/work/shared/formats/sequence.md):
 //   scans/NNNNNN.bin, times.txt, meta.json, optional gt.tum

@@ -1,4 +1,4 @@
-#include "tools/common/process_memory.hpp"
+#include "io/process_memory.hpp"
 
 #include <fstream>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "tools/common/tum.hpp"
+#include "io/tum.hpp"
 
 #include <array>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <sstream>
 #include <string>
 
-#include "tools/common/io_error.hpp"
-#include "tools/common/number_text.hpp"
+#include "io/io_error.hpp"
+#include "io/number_text.hpp"
 
 namespace dammloam::io {
 namespace {

@@ -1,4 +1,4 @@
-#include "tools/mapstore/binary_io.hpp"
+#include "io/mapstore/binary_io.hpp"
 
 namespace dammloam::mapstore {
 

@@ -2,7 +2,7 @@
 #include <filesystem>
 
 #include "core/backend/keyframe.hpp"
-#include "tools/common/io_error.hpp"
+#include "io/io_error.hpp"
 
 // A map directory:
 //   map.json         format name, version, counts, Scan Context config, checksum of keyframes.bin
