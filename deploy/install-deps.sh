@@ -10,6 +10,9 @@ PACKAGES=(
   libtbb-dev libnanoflann-dev robin-map-dev
   libreaderwriterqueue-dev libconcurrentqueue-dev
   cyclonedds-dev cyclonedds-tools
+  # Second DDS vendor for the interop tests (tests/interop): eProsima Fast DDS 2.9 and its IDL
+  # code generator, a Java program (the JRE is only pulled in indirectly, via antlr4).
+  libfastrtps-dev libfastcdr-dev fastddsgen default-jre-headless
   libpcap-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   procps

@@ -8,6 +8,7 @@
 #include "core/odometry/unclassified_scan.hpp"
 #include "services/dds/messages.hpp"
 #include "services/dds/point_cloud.hpp"
+#include "services/dds/ros2_messages.hpp"
 #include "services/dds/topics.hpp"
 
 #ifdef DAMMLOAM_HAVE_BACKEND
@@ -41,6 +42,16 @@ dds::CloudLimits InputLimits(const DaemonConfig& config) {
   return limits;
 }
 
+// The ROS 2 input makes the per-point time choice explicit (ros2.deskew).
+dds::CloudLimits Ros2InputLimits(const DaemonConfig& config) {
+  dds::CloudLimits limits = InputLimits(config);
+  limits.point_times = config.ros2.deskew;
+  limits.stamp_may_end_scan = true;  // velodyne_pointcloud
+  limits.missing_time_hint =
+      "set dammloamd.ros2.deskew: off to register clouds without per-point time (no deskew)";
+  return limits;
+}
+
 }  // namespace
 
 #ifdef DAMMLOAM_HAVE_BACKEND
@@ -60,6 +71,34 @@ struct MapPose {
 class MapLocalization {};
 bool Daemon::LoopClosureBuiltIn() { return false; }
 #endif
+
+struct Daemon::Ros2Endpoints {
+  Ros2Endpoints(const dds::Participant& participant, const Ros2Config& config)
+      : points_topic(participant, sensor_msgs_msg_dds__PointCloud2__desc,
+                     dds::Ros2TopicName(config.points_topic), dds::Ros2SensorDataQos()),
+        odometry_topic(participant, nav_msgs_msg_dds__Odometry__desc,
+                       dds::Ros2TopicName(config.odometry_topic), dds::Ros2OdometryQos()),
+        labelled_topic(participant, sensor_msgs_msg_dds__PointCloud2__desc,
+                       dds::Ros2TopicName(config.labelled_cloud_topic),
+                       dds::Ros2LabelledCloudQos()),
+        points_reader(participant, points_topic, dds::Ros2SensorDataQos()),
+        odometry_writer(participant, odometry_topic, dds::Ros2OdometryQos()),
+        labelled_writer(participant, labelled_topic, dds::Ros2LabelledCloudQos()) {
+    if (config.publish_tf) {
+      tf_topic.emplace(participant, tf2_msgs_msg_dds__TFMessage__desc, dds::kRos2TfTopic,
+                       dds::Ros2TfQos());
+      tf_writer.emplace(participant, *tf_topic, dds::Ros2TfQos());
+    }
+  }
+
+  dds::Topic points_topic, odometry_topic, labelled_topic;
+  std::optional<dds::Topic> tf_topic;
+  dds::Reader<sensor_msgs_msg_dds__PointCloud2_> points_reader;
+  dds::Writer<nav_msgs_msg_dds__Odometry_> odometry_writer;
+  dds::Writer<sensor_msgs_msg_dds__PointCloud2_> labelled_writer;
+  std::optional<dds::Writer<tf2_msgs_msg_dds__TFMessage_>> tf_writer;  // publish_tf
+  std::uint64_t next_seq = 0;  // receive thread: ROS 2 headers carry no seq, the daemon counts
+};
 
 Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config)
     : config_(config),
@@ -86,6 +125,10 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
       status_writer_(participant_, status_topic_, dds::StatusQos()),
       waitset_(participant_) {
   waitset_.Attach(points_reader_);
+  if (config.ros2.enabled) {
+    ros2_ = std::make_unique<Ros2Endpoints>(participant_, config.ros2);
+    waitset_.Attach(ros2_->points_reader);
+  }
 #ifdef DAMMLOAM_HAVE_BACKEND
   // The shutdown save needs keyframes even when loop closure is off.
   if (config.loop_closure || !config.save_map_on_shutdown.empty()) {
@@ -129,11 +172,23 @@ void Daemon::ReceiveLoop() {
   while (!stop_) {
     try {
       waitset_.Wait(kWakeUp);
-      while (!stop_ && points_reader_.TakeEach(
-                           [this](const dammloam_msg_PointCloud& cloud, const dds_sample_info_t&) {
-                             HandleCloud(cloud);
-                           },
-                           4) > 0) {
+      const auto take_native = [this] {
+        return points_reader_.TakeEach(
+            [this](const dammloam_msg_PointCloud& cloud, const dds_sample_info_t&) {
+              HandleCloud(cloud);
+            },
+            4);
+      };
+      const auto take_ros2 = [this] {
+        if (!ros2_) return 0;
+        return ros2_->points_reader.TakeEach(
+            [this](const sensor_msgs_msg_dds__PointCloud2_& cloud, const dds_sample_info_t&) {
+              HandleRos2Cloud(cloud);
+            },
+            4);
+      };
+      // Both inputs in turn until both are empty: neither can starve the other.
+      while (!stop_ && take_native() + take_ros2() > 0) {
       }
     } catch (const std::exception& e) {
       spdlog::error("receive stage: {}", e.what());
@@ -142,31 +197,45 @@ void Daemon::ReceiveLoop() {
 }
 
 void Daemon::HandleCloud(const dammloam_msg_PointCloud& cloud) {
+  Accept(dds::ViewOf(cloud), cloud.header.seq, InputLimits(config_),
+         "PointCloud seq " + std::to_string(cloud.header.seq));
+}
+
+void Daemon::HandleRos2Cloud(const sensor_msgs_msg_dds__PointCloud2_& cloud) {
+  const std::uint64_t seq = ros2_->next_seq++;
+  Accept(dds::ViewOf(cloud), seq, Ros2InputLimits(config_),
+         "ROS 2 PointCloud2 #" + std::to_string(seq) + " on " + ros2_->points_topic.name());
+}
+
+void Daemon::Accept(const dds::CloudInput& cloud, std::uint64_t seq,
+                    const dds::CloudLimits& limits, const std::string& sample) {
   stats_.Received();
-  dds::CloudConversion conversion = dds::CloudToScan(cloud, InputLimits(config_));
-  if (!conversion.scan) return Reject(cloud, conversion.code, conversion.error);
-  if (have_last_stamp_ && !Later(cloud.header.stamp, last_stamp_)) {
-    const bool duplicate = cloud.header.stamp.sec == last_stamp_.sec &&
-                           cloud.header.stamp.nanosec == last_stamp_.nanosec;
-    return Reject(cloud, duplicate ? "duplicate_stamp" : "out_of_order_stamp",
+  dds::CloudConversion conversion = dds::CloudToScan(cloud, limits);
+  if (!conversion.scan) return Reject(sample, cloud.stamp, conversion.code, conversion.error);
+  // One timeline for both inputs: the odometry cannot go back in time.
+  if (have_last_stamp_ && !Later(cloud.stamp, last_stamp_)) {
+    const bool duplicate =
+        cloud.stamp.sec == last_stamp_.sec && cloud.stamp.nanosec == last_stamp_.nanosec;
+    return Reject(sample, cloud.stamp, duplicate ? "duplicate_stamp" : "out_of_order_stamp",
                   std::string(duplicate ? "duplicate" : "out-of-order") + " stamp: not after " +
                       "the last accepted stamp " + StampText(last_stamp_));
   }
   have_last_stamp_ = true;
-  last_stamp_ = cloud.header.stamp;
-  ReceivedScan item{{cloud.header.stamp, cloud.header.seq,
-                     cloud.header.frame_id != nullptr ? cloud.header.frame_id : "",
-                     std::chrono::steady_clock::now()},
+  last_stamp_ = cloud.stamp;
+  // The pose is at the scan's first point: a cloud stamped at the end of its sweep gets the
+  // stamp of its start on every output.
+  const bool restamped = conversion.start_offset != 0.0;
+  ReceivedScan item{{restamped ? dds::ToMsgTime(conversion.scan->t_start) : cloud.stamp, seq,
+                     std::string(cloud.frame_id), std::chrono::steady_clock::now()},
                     std::move(*conversion.scan)};
   const ScanMeta meta = item.meta;
   if (!received_.TryPush(std::move(item))) Drop(meta, "receive_queue_full");
 }
 
-void Daemon::Reject(const dammloam_msg_PointCloud& cloud, const std::string& code,
-                    const std::string& problem) {
-  const std::string message = "rejected PointCloud seq " + std::to_string(cloud.header.seq) +
-                              " stamp " + StampText(cloud.header.stamp) + " [" + code +
-                              "]: " + problem;
+void Daemon::Reject(const std::string& sample, const dammloam_msg_Time& stamp,
+                    const std::string& code, const std::string& problem) {
+  const std::string message =
+      "rejected " + sample + " stamp " + StampText(stamp) + " [" + code + "]: " + problem;
   spdlog::warn("{}", message);
   stats_.Rejected(code, message);
   PublishStatus(true, dammloam_msg_STATE_DEGRADED);
@@ -270,6 +339,12 @@ void Daemon::Publish(const RegisteredScan& item) {
   odometry_writer_.Write(odom);
   stats_.Processed(odom.latency_ms);
 
+  if (ros2_) {
+    // REP 105: the odometry stays continuous in odom; what localization adds is map -> odom.
+    PublishRos2(item, located ? located->T_map_sensor * r.T_world_sensor.inverse()
+                              : Eigen::Isometry3d::Identity());
+  }
+
   const int every = config_.labelled_cloud_every;
   if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0) PublishLabelled(item, T);
   ++published_;
@@ -298,6 +373,36 @@ void Daemon::PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d
   msg.pose = dds::ToMsgPose(T_map_sensor);
   msg.cloud = view.get();
   labelled_writer_.Write(msg);
+  if (ros2_) PublishRos2Labelled(item, points);
+}
+
+const std::string& Daemon::Ros2SensorFrame(const ScanMeta& meta) const {
+  static const std::string kUnnamed = "sensor";  // a cloud without frame_id still gets TF
+  if (!config_.ros2.sensor_frame.empty()) return config_.ros2.sensor_frame;
+  return meta.frame_id.empty() ? kUnnamed : meta.frame_id;
+}
+
+void Daemon::PublishRos2(const RegisteredScan& item, const Eigen::Isometry3d& T_map_odom) {
+  const Ros2Config& c = config_.ros2;
+  const std::string& sensor_frame = Ros2SensorFrame(item.meta);
+  ros2_->odometry_writer.Write(dds::ToRos2Odometry(item.result, item.meta.stamp, c.odom_frame,
+                                                   sensor_frame, config_.sensor.scan_period));
+  if (!ros2_->tf_writer) return;
+  geometry_msgs_msg_dds__TransformStamped_ transforms[2] = {
+      dds::ToRos2Transform(T_map_odom, item.meta.stamp, c.map_frame, c.odom_frame),
+      dds::ToRos2Transform(item.result.T_world_sensor, item.meta.stamp, c.odom_frame,
+                           sensor_frame)};
+  tf2_msgs_msg_dds__TFMessage_ tf{};
+  tf.transforms._buffer = transforms;
+  tf.transforms._length = tf.transforms._maximum = 2;
+  tf.transforms._release = false;
+  ros2_->tf_writer->Write(tf);
+}
+
+void Daemon::PublishRos2Labelled(const RegisteredScan& item, const dds::LabelledPoints& points) {
+  dds::CloudMessage cloud = dds::LabelledToRos2Cloud(points, Ros2SensorFrame(item.meta));
+  cloud.stamp = item.meta.stamp;
+  ros2_->labelled_writer.Write(dds::Ros2CloudView(cloud).get());
 }
 
 std::optional<MapPose> Daemon::Locate(const OdometryResult& result) {

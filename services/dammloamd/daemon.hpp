@@ -22,6 +22,8 @@
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dammloamd/stage_queue.hpp"
 #include "services/dds/dds.hpp"
+#include "services/dds/point_cloud.hpp"
+#include "sensor_msgs.h"
 
 namespace dammloam::daemon {
 
@@ -74,11 +76,18 @@ class Daemon {
   void PublishLoop();
 
   void HandleCloud(const dammloam_msg_PointCloud& cloud);
-  void Reject(const dammloam_msg_PointCloud& cloud, const std::string& code,
+  void HandleRos2Cloud(const sensor_msgs_msg_dds__PointCloud2_& cloud);
+  // Both inputs end here: validates, converts and queues one cloud. `sample` names it in errors.
+  void Accept(const dds::CloudInput& cloud, std::uint64_t seq, const dds::CloudLimits& limits,
+              const std::string& sample);
+  void Reject(const std::string& sample, const dammloam_msg_Time& stamp, const std::string& code,
               const std::string& problem);
   void Drop(const ScanMeta& meta, const std::string& where);
   void Publish(const RegisteredScan& item);
   void PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d& T_map_sensor);
+  void PublishRos2(const RegisteredScan& item, const Eigen::Isometry3d& T_map_odom);
+  void PublishRos2Labelled(const RegisteredScan& item, const dds::LabelledPoints& points);
+  const std::string& Ros2SensorFrame(const ScanMeta& meta) const;
   std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
   std::uint8_t RunningState() const;
@@ -117,6 +126,10 @@ class Daemon {
   std::mutex status_mutex_;
   std::uint64_t status_seq_ = 0;
   std::uint64_t published_ = 0;
+
+  // ROS 2 topics (config.ros2.enabled), defined in daemon.cpp; null when off.
+  struct Ros2Endpoints;
+  std::unique_ptr<Ros2Endpoints> ros2_;
 
   std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
   std::unique_ptr<MapLocalization> localization_;    // null: built without the back-end

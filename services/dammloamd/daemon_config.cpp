@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <set>
 #include <stdexcept>
 
@@ -65,11 +66,79 @@ void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   Read(node, "command_reply", path, t.command_reply);
 }
 
+void ReadRos2(const YAML::Node& node, Ros2Config& r) {
+  const std::string path = "dammloamd.ros2";
+  RejectUnknownKeys(node, path, {"enabled", "points_topic", "odometry_topic",
+                                 "labelled_cloud_topic", "publish_tf", "map_frame", "odom_frame",
+                                 "sensor_frame", "deskew"});
+  Read(node, "enabled", path, r.enabled);
+  Read(node, "points_topic", path, r.points_topic);
+  Read(node, "odometry_topic", path, r.odometry_topic);
+  Read(node, "labelled_cloud_topic", path, r.labelled_cloud_topic);
+  Read(node, "publish_tf", path, r.publish_tf);
+  Read(node, "map_frame", path, r.map_frame);
+  Read(node, "odom_frame", path, r.odom_frame);
+  Read(node, "sensor_frame", path, r.sensor_frame);
+  std::string deskew;
+  Read(node, "deskew", path, deskew);
+  if (deskew == "auto") {
+    r.deskew = dds::PointTimes::kRequired;
+  } else if (deskew == "off") {
+    r.deskew = dds::PointTimes::kIgnored;
+  } else if (!deskew.empty() || (node && node["deskew"])) {
+    Fail(path + ".deskew", "must be auto or off (is '" + deskew + "')");
+  }
+}
+
+// ROS 2 names: [A-Za-z0-9_/], no empty tokens, no trailing slash (what rcl accepts, minus ~ and
+// substitutions, which need a node).
+void ValidateRos2Name(const std::string& key, const std::string& name) {
+  if (name.empty()) Fail(key, "must not be empty");
+  for (char c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '/') {
+      Fail(key, "('" + name + "') may only contain letters, digits, '_' and '/'");
+    }
+  }
+  if (name.find("//") != std::string::npos || name.back() == '/') {
+    Fail(key, "('" + name + "') has an empty name token");
+  }
+  const std::size_t first = name.find_first_not_of('/');
+  if (first != std::string::npos && std::isdigit(static_cast<unsigned char>(name[first]))) {
+    Fail(key, "('" + name + "') must not start with a digit");
+  }
+}
+
+// TF frame ids: no leading slash (tf2 rejects it), no spaces.
+void ValidateFrame(const std::string& key, const std::string& frame, bool may_be_empty) {
+  if (frame.empty()) {
+    if (!may_be_empty) Fail(key, "must not be empty");
+    return;
+  }
+  if (frame.front() == '/') Fail(key, "('" + frame + "') must not start with '/' (tf2 rejects it)");
+  if (frame.find_first_of(" \t\n") != std::string::npos) Fail(key, "must not contain whitespace");
+}
+
+void ValidateRos2(const Ros2Config& r) {
+  ValidateRos2Name("dammloamd.ros2.points_topic", r.points_topic);
+  ValidateRos2Name("dammloamd.ros2.odometry_topic", r.odometry_topic);
+  ValidateRos2Name("dammloamd.ros2.labelled_cloud_topic", r.labelled_cloud_topic);
+  ValidateFrame("dammloamd.ros2.map_frame", r.map_frame, false);
+  ValidateFrame("dammloamd.ros2.odom_frame", r.odom_frame, false);
+  ValidateFrame("dammloamd.ros2.sensor_frame", r.sensor_frame, true);
+  if (r.map_frame == r.odom_frame) {
+    Fail("dammloamd.ros2.odom_frame", "must differ from map_frame (TF needs two frames)");
+  }
+  if (r.sensor_frame == r.odom_frame || r.sensor_frame == r.map_frame) {
+    Fail("dammloamd.ros2.sensor_frame", "must differ from map_frame and odom_frame");
+  }
+}
+
 DaemonConfig ParseDaemon(const YAML::Node& node) {
   DaemonConfig c;
   const std::string path = "dammloamd";
   RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
-                                 "queues", "publish", "loop_closure", "save_map_on_shutdown"});
+                                 "queues", "publish", "loop_closure", "save_map_on_shutdown",
+                                 "ros2"});
   if (!node) return c;
   Read(node, "domain", path, c.domain);
   Read(node, "node_name", path, c.node_name);
@@ -80,6 +149,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   c.save_map_on_shutdown = save_map;
   ReadSensor(node["sensor"], c);
   ReadTopics(node["topics"], c.topics);
+  ReadRos2(node["ros2"], c.ros2);
 
   const YAML::Node input = node["input"];
   RejectUnknownKeys(input, "dammloamd.input",
@@ -177,6 +247,7 @@ void ValidateDaemonConfig(const DaemonConfig& c) {
     if (topic->empty()) Fail("dammloamd.topics", "names must not be empty");
   }
   ValidateSaveOnShutdown(c.save_map_on_shutdown);
+  ValidateRos2(c.ros2);
 }
 
 }  // namespace dammloam::daemon

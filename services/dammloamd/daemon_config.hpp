@@ -13,6 +13,21 @@
 
 namespace dammloam::daemon {
 
+// The `ros2` section: ROS 2 topics next to the native ones (off unless enabled or --ros2).
+// Names are ROS 2 names; the DDS topic is rt + name (dds::Ros2TopicName).
+struct Ros2Config {
+  bool enabled = false;
+  std::string points_topic = "/points";                          // sensor_msgs/PointCloud2 in
+  std::string odometry_topic = "/dammloam/odometry";             // nav_msgs/Odometry out
+  std::string labelled_cloud_topic = "/dammloam/labelled_cloud"; // sensor_msgs/PointCloud2 out
+  bool publish_tf = true;                                        // /tf: map->odom, odom->sensor
+  std::string map_frame = "map";
+  std::string odom_frame = "odom";
+  std::string sensor_frame;            // empty: the input cloud's header.frame_id
+  // auto: clouds need a per-point time field (deskew); off: times are ignored, no deskew.
+  dds::PointTimes deskew = dds::PointTimes::kRequired;
+};
+
 struct DaemonConfig {
   std::uint32_t domain = 0;
   std::string node_name = "dammloamd";
@@ -32,6 +47,7 @@ struct DaemonConfig {
   // Map directory written (atomically) by Stop(); empty = off. Runs the back-end (keyframes only,
   // no loop search) even when loop_closure is false.
   std::filesystem::path save_map_on_shutdown;
+  Ros2Config ros2;
 };
 
 struct FullConfig {

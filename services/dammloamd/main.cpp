@@ -1,5 +1,6 @@
 // dammloamd: subscribes to PointCloud and Command, publishes Odometry, LabelledCloud, Status,
-// CommandReply (and LoopClosure when the back-end is built in) over Cyclone DDS.
+// CommandReply (and LoopClosure when the back-end is built in) over Cyclone DDS; with --ros2 also
+// ROS 2 PointCloud2 in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -22,6 +23,7 @@ struct Options {
   std::string points_topic;
   std::optional<int> labelled_cloud_every;
   bool no_loop_closure = false;
+  bool ros2 = false;
   bool allow_default_network = false;
   bool check_config = false;
   std::string log_level = "info";
@@ -39,6 +41,7 @@ dammloam::daemon::FullConfig BuildConfig(const Options& o) {
   if (!o.points_topic.empty()) d.topics.points = o.points_topic;
   if (o.labelled_cloud_every) d.labelled_cloud_every = *o.labelled_cloud_every;
   if (o.no_loop_closure) d.loop_closure = false;
+  if (o.ros2) d.ros2.enabled = true;
   if (!d.sensor_meta.empty()) {
     const io::SequenceMeta meta = io::ReadMeta(d.sensor_meta);
     d.sensor = meta.model;
@@ -65,6 +68,9 @@ int main(int argc, char** argv) {
   app.add_option("--labelled-cloud-every", o.labelled_cloud_every,
                  "publish every Nth LabelledCloud (0 = never)");
   app.add_flag("--no-loop-closure", o.no_loop_closure, "do not run the loop-closure back-end");
+  app.add_flag("--ros2", o.ros2,
+               "also speak ROS 2 (dammloamd.ros2.enabled): PointCloud2 in, Odometry, labelled "
+               "PointCloud2 and /tf out; the ros2 section's values or its defaults");
   app.add_flag("--allow-default-network", o.allow_default_network,
                "run without CYCLONEDDS_URI (uses the default network interface)");
   app.add_flag("--check-config", o.check_config, "validate the configuration and exit");
@@ -108,6 +114,13 @@ int main(int argc, char** argv) {
     spdlog::info("commands on {} (save_map, relocalize), replies on {}; map saved on shutdown: {}",
                  d.topics.command, d.topics.command_reply,
                  d.save_map_on_shutdown.empty() ? "no" : d.save_map_on_shutdown.string());
+    if (d.ros2.enabled) {
+      spdlog::info("ROS 2: {} -> {}, {}{}; frames {} -> {} -> {}; deskew {}", d.ros2.points_topic,
+                   d.ros2.odometry_topic, d.ros2.labelled_cloud_topic,
+                   d.ros2.publish_tf ? ", /tf" : "", d.ros2.map_frame, d.ros2.odom_frame,
+                   d.ros2.sensor_frame.empty() ? "<cloud frame_id>" : d.ros2.sensor_frame,
+                   d.ros2.deskew == dammloam::dds::PointTimes::kIgnored ? "off" : "auto");
+    }
     int signal_number = 0;
     sigwait(&stop_signals, &signal_number);
     spdlog::info("signal {} received, stopping", signal_number);

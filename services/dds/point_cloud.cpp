@@ -1,7 +1,9 @@
 #include "services/dds/point_cloud.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <set>
 #include <string_view>
 
@@ -55,23 +57,33 @@ void Store(std::uint8_t* p, T value) {
   std::memcpy(p, &value, sizeof(T));
 }
 
-const dammloam_msg_PointField* FindField(const dammloam_msg_PointCloud& cloud,
-                                         std::string_view name) {
-  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
-    const auto& field = cloud.fields._buffer[i];
-    if (field.name != nullptr && name == field.name) return &field;
+const CloudFieldView* FindField(const CloudInput& cloud, std::string_view name) {
+  for (const auto& field : cloud.fields) {
+    if (field.name == name) return &field;
   }
   return nullptr;
 }
 
-std::string FieldList(const dammloam_msg_PointCloud& cloud) {
+// The first of `names` the cloud has, or null.
+const CloudFieldView* FindFirst(const CloudInput& cloud,
+                                std::initializer_list<std::string_view> names) {
+  for (std::string_view name : names) {
+    if (const auto* f = FindField(cloud, name)) return f;
+  }
+  return nullptr;
+}
+
+std::string FieldList(const CloudInput& cloud) {
   std::string list;
-  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
+  for (const auto& field : cloud.fields) {
     if (!list.empty()) list += ", ";
-    const char* name = cloud.fields._buffer[i].name;
-    list += name != nullptr ? name : "<null>";
+    list += field.name.empty() ? std::string("<null>") : std::string(field.name);
   }
   return list.empty() ? "none" : list;
+}
+
+bool IsFloat(std::uint8_t datatype) {
+  return datatype == dammloam_msg_DATATYPE_FLOAT32 || datatype == dammloam_msg_DATATYPE_FLOAT64;
 }
 
 struct Problem {
@@ -80,14 +92,14 @@ struct Problem {
 };
 
 // Structural checks that do not look at points; empty message when the cloud is well formed.
-Problem CheckLayout(const dammloam_msg_PointCloud& cloud, const CloudLimits& limits) {
-  if (cloud.header.stamp.nanosec >= 1000000000u) {
-    return {"stamp", "header.stamp.nanosec is " + std::to_string(cloud.header.stamp.nanosec) +
+Problem CheckLayout(const CloudInput& cloud, const CloudLimits& limits) {
+  if (cloud.stamp.nanosec >= 1000000000u) {
+    return {"stamp", "header.stamp.nanosec is " + std::to_string(cloud.stamp.nanosec) +
            ", must be below 1e9"};
   }
   if (cloud.is_bigendian) return {"byte_order", "is_bigendian is true: only little-endian clouds are supported"};
-  if (cloud.data._length > limits.max_bytes) {
-    return {"too_large", "payload of " + std::to_string(cloud.data._length) + " bytes exceeds the limit of " +
+  if (cloud.data_size > limits.max_bytes) {
+    return {"too_large", "payload of " + std::to_string(cloud.data_size) + " bytes exceeds the limit of " +
            std::to_string(limits.max_bytes) + " bytes (max_cloud_bytes)"};
   }
   const std::uint64_t num_points = std::uint64_t{cloud.height} * cloud.width;
@@ -101,9 +113,9 @@ Problem CheckLayout(const dammloam_msg_PointCloud& cloud, const CloudLimits& lim
   }
   if (cloud.point_step == 0) return {"point_step", "point_step is 0"};
   std::set<std::string_view> names;
-  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
-    const auto& f = cloud.fields._buffer[i];
-    const std::string name = f.name != nullptr ? f.name : "";
+  for (std::size_t i = 0; i < cloud.fields.size(); ++i) {
+    const auto& f = cloud.fields[i];
+    const std::string name(f.name);
     if (name.empty()) return {"fields", "field " + std::to_string(i) + " has an empty name"};
     if (!names.insert(f.name).second) return {"fields", "field '" + name + "' appears twice"};
     const std::size_t size = DatatypeSize(f.datatype);
@@ -121,8 +133,7 @@ Problem CheckLayout(const dammloam_msg_PointCloud& cloud, const CloudLimits& lim
       return {"missing_field", std::string("required field '") + axis + "' is missing (fields: " + FieldList(cloud) +
              ")"};
     }
-    if (f->datatype != dammloam_msg_DATATYPE_FLOAT32 &&
-        f->datatype != dammloam_msg_DATATYPE_FLOAT64) {
+    if (!IsFloat(f->datatype)) {
       return {"field_type", std::string("field '") + axis + "' is " + DatatypeName(f->datatype) +
              ", expected float32 or float64"};
     }
@@ -133,28 +144,59 @@ Problem CheckLayout(const dammloam_msg_PointCloud& cloud, const CloudLimits& lim
            std::to_string(min_row_step)};
   }
   const std::uint64_t expected_bytes = std::uint64_t{cloud.height} * cloud.row_step;
-  if (cloud.data._length != expected_bytes) {
-    return {"payload_size", "payload is " + std::to_string(cloud.data._length) +
+  if (cloud.data_size != expected_bytes) {
+    return {"payload_size", "payload is " + std::to_string(cloud.data_size) +
            " bytes but height x row_step = " + std::to_string(expected_bytes) +
-           (cloud.data._length < expected_bytes ? " (truncated)" : " (extra bytes)")};
+           (cloud.data_size < expected_bytes ? " (truncated)" : " (extra bytes)")};
   }
   return {};
 }
 
-// Per-point time field: seconds for float types, nanoseconds for integers (Ouster's uint32 t).
+// Per-point time field: seconds for float types, nanoseconds for 32-bit integers (ouster-ros t,
+// nebula time_stamp). Narrower integers cannot hold a scan's nanoseconds: a wrong layout.
 struct TimeField {
-  const dammloam_msg_PointField* field = nullptr;
+  const CloudFieldView* field = nullptr;
   double scale = 1.0;
 };
 
-TimeField FindTimeField(const dammloam_msg_PointCloud& cloud) {
-  for (const char* name : {"t", "time"}) {
-    if (const auto* f = FindField(cloud, name)) {
-      const bool is_float = f->datatype == dammloam_msg_DATATYPE_FLOAT32 ||
-                            f->datatype == dammloam_msg_DATATYPE_FLOAT64;
-      return {f, is_float ? 1.0 : 1e-9};
-    }
+Problem FindTimeField(const CloudInput& cloud, const CloudLimits& limits, TimeField& out) {
+  out = {};
+  if (limits.point_times == PointTimes::kIgnored) return {};
+  const CloudFieldView* f = FindFirst(cloud, {"t", "time", "time_stamp"});
+  if (f == nullptr) {
+    if (limits.point_times == PointTimes::kOptional) return {};
+    std::string message = "no per-point time field (looked for t, time, time_stamp; fields: " +
+                          FieldList(cloud) + "): deskew needs one";
+    if (!limits.missing_time_hint.empty()) message += "; " + limits.missing_time_hint;
+    return {"missing_time", message};
   }
+  if (IsFloat(f->datatype)) {
+    out = {f, 1.0};
+  } else if (f->datatype == dammloam_msg_DATATYPE_UINT32 ||
+             f->datatype == dammloam_msg_DATATYPE_INT32) {
+    out = {f, 1e-9};
+  } else {
+    return {"field_type", "field '" + std::string(f->name) + "' is " + DatatypeName(f->datatype) +
+                              ", expected float32/float64 seconds or uint32/int32 nanoseconds " +
+                              "since header.stamp"};
+  }
+  return {};
+}
+
+// Scans stamped at the end of the sweep have negative per-point times: move t_start to the
+// first point so times run from 0 as the core expects (the stamp keeps nanosecond precision
+// when nothing moves).
+Problem StartAtFirstPoint(Scan& scan, double max_point_time) {
+  if (scan.times.empty()) return {};
+  const float first = *std::min_element(scan.times.begin(), scan.times.end());
+  if (first >= 0.0f) return {};
+  const float last = *std::max_element(scan.times.begin(), scan.times.end());
+  if (last - first > max_point_time) {
+    return {"point_time", "per-point times span " + std::to_string(last - first) +
+                              " s, more than " + std::to_string(max_point_time) + " s"};
+  }
+  scan.t_start += first;
+  for (float& t : scan.times) t -= first;
   return {};
 }
 
@@ -176,6 +218,26 @@ dammloam_msg_Time ToMsgTime(double seconds) {
 }
 
 double ToSeconds(const dammloam_msg_Time& time) { return time.sec + time.nanosec * 1e-9; }
+
+CloudInput ViewOf(const dammloam_msg_PointCloud& cloud) {
+  CloudInput view;
+  view.stamp = cloud.header.stamp;
+  view.frame_id = cloud.header.frame_id != nullptr ? cloud.header.frame_id : "";
+  view.height = cloud.height;
+  view.width = cloud.width;
+  view.fields.reserve(cloud.fields._length);
+  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
+    const auto& f = cloud.fields._buffer[i];
+    view.fields.push_back({f.name != nullptr ? f.name : "", f.offset, f.datatype, f.count});
+  }
+  view.is_bigendian = cloud.is_bigendian;
+  view.point_step = cloud.point_step;
+  view.row_step = cloud.row_step;
+  view.data = cloud.data._buffer;
+  view.data_size = cloud.data._length;
+  view.is_dense = cloud.is_dense;
+  return view;
+}
 
 CloudView::CloudView(const CloudMessage& message) {
   fields_.reserve(message.fields.size());
@@ -228,8 +290,14 @@ CloudMessage ScanToCloud(const Scan& scan, const std::string& frame_id, std::uin
 }
 
 CloudConversion CloudToScan(const dammloam_msg_PointCloud& cloud, const CloudLimits& limits) {
+  return CloudToScan(ViewOf(cloud), limits);
+}
+
+CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits) {
   CloudConversion result;
+  TimeField ft;
   Problem problem = CheckLayout(cloud, limits);
+  if (problem.message.empty()) problem = FindTimeField(cloud, limits, ft);
   if (!problem.message.empty()) {
     result.code = std::move(problem.code);
     result.error = std::move(problem.message);
@@ -240,15 +308,15 @@ CloudConversion CloudToScan(const dammloam_msg_PointCloud& cloud, const CloudLim
   const auto* fy = FindField(cloud, "y");
   const auto* fz = FindField(cloud, "z");
   const auto* fi = FindField(cloud, "intensity");
-  const auto* fr = FindField(cloud, "ring");
-  const TimeField ft = FindTimeField(cloud);
+  const auto* fr = FindFirst(cloud, {"ring", "channel"});
 
+  const double min_time = limits.stamp_may_end_scan ? -limits.max_point_time : 0.0;
   Scan scan;
-  scan.t_start = ToSeconds(cloud.header.stamp);
+  scan.t_start = ToSeconds(cloud.stamp);
   const std::uint64_t num_points = std::uint64_t{cloud.height} * cloud.width;
   scan.points.reserve(num_points);
   for (std::uint64_t index = 0; index < num_points; ++index) {
-    const std::uint8_t* p = cloud.data._buffer + (index / cloud.width) * cloud.row_step +
+    const std::uint8_t* p = cloud.data + (index / cloud.width) * cloud.row_step +
                             (index % cloud.width) * cloud.point_step;
     const Eigen::Vector3d xyz(ReadNumber(p + fx->offset, fx->datatype),
                               ReadNumber(p + fy->offset, fy->datatype),
@@ -269,10 +337,11 @@ CloudConversion CloudToScan(const dammloam_msg_PointCloud& cloud, const CloudLim
     }
     if (ft.field != nullptr) {
       const double t = ReadNumber(p + ft.field->offset, ft.field->datatype) * ft.scale;
-      if (!std::isfinite(t) || t < 0.0 || t > limits.max_point_time) {
+      if (!std::isfinite(t) || t < min_time || t > limits.max_point_time) {
         result.code = "point_time";
         result.error = PointName(index, cloud.width) + " has time " + std::to_string(t) +
-                       " s, outside [0, " + std::to_string(limits.max_point_time) + "]";
+                       " s, outside [" + std::to_string(min_time) + ", " +
+                       std::to_string(limits.max_point_time) + "]";
         return result;
       }
       scan.times.push_back(static_cast<float>(t));
@@ -299,6 +368,13 @@ CloudConversion CloudToScan(const dammloam_msg_PointCloud& cloud, const CloudLim
                    " points are no-returns (at the origin) or non-finite";
     return result;
   }
+  const double stamp = scan.t_start;
+  if (Problem span = StartAtFirstPoint(scan, limits.max_point_time); !span.message.empty()) {
+    result.code = std::move(span.code);
+    result.error = std::move(span.message);
+    return result;
+  }
+  result.start_offset = scan.t_start - stamp;
   result.scan = std::move(scan);
   return result;
 }
@@ -333,8 +409,9 @@ CloudMessage LabelledToCloud(const LabelledPoints& points, const std::string& fr
   return msg;
 }
 
-std::optional<LabelledPoints> CloudToLabelled(const dammloam_msg_PointCloud& cloud,
+std::optional<LabelledPoints> CloudToLabelled(const dammloam_msg_PointCloud& sample,
                                               std::string* error) {
+  const CloudInput cloud = ViewOf(sample);
   CloudLimits limits;
   limits.max_bytes = ~0ull;
   limits.max_points = ~0ull;
@@ -342,7 +419,7 @@ std::optional<LabelledPoints> CloudToLabelled(const dammloam_msg_PointCloud& clo
     if (error != nullptr) *error = problem.message;
     return std::nullopt;
   }
-  const dammloam_msg_PointField* f[10];
+  const CloudFieldView* f[10];
   const char* names[] = {"x", "y", "z", "map_x", "map_y", "map_z",
                          "normal_x", "normal_y", "normal_z", "label"};
   for (int k = 0; k < 10; ++k) {
@@ -355,7 +432,7 @@ std::optional<LabelledPoints> CloudToLabelled(const dammloam_msg_PointCloud& clo
   LabelledPoints out;
   const std::uint64_t n = std::uint64_t{cloud.height} * cloud.width;
   for (std::uint64_t index = 0; index < n; ++index) {
-    const std::uint8_t* p = cloud.data._buffer + (index / cloud.width) * cloud.row_step +
+    const std::uint8_t* p = cloud.data + (index / cloud.width) * cloud.row_step +
                             (index % cloud.width) * cloud.point_step;
     double v[10];
     for (int k = 0; k < 10; ++k) v[k] = ReadNumber(p + f[k]->offset, f[k]->datatype);

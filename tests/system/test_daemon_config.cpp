@@ -65,5 +65,47 @@ TEST(DaemonConfig, SaveMapOnShutdownIsCheckedAtStartUp) {
                 .find("names must not be empty"), std::string::npos);
 }
 
+TEST(DaemonConfig, Ros2SectionDefaultsParseAndMistakesNameTheKey) {
+  const FullConfig shipped =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
+  const Ros2Config& r = shipped.daemon.ros2;
+  EXPECT_FALSE(r.enabled) << "off by default";
+  EXPECT_EQ(r.points_topic, "/points");
+  EXPECT_EQ(r.odometry_topic, "/dammloam/odometry");
+  EXPECT_EQ(r.labelled_cloud_topic, "/dammloam/labelled_cloud");
+  EXPECT_TRUE(r.publish_tf);
+  EXPECT_EQ(r.map_frame, "map");
+  EXPECT_EQ(r.odom_frame, "odom");
+  EXPECT_EQ(r.sensor_frame, "");
+  EXPECT_EQ(r.deskew, dds::PointTimes::kRequired);
+
+  const auto dir = test::TestDir("config-ros2");
+  std::ofstream(dir / "ros2.yaml") << "dammloamd:\n  ros2:\n    enabled: true\n"
+                                      "    points_topic: /ouster/points\n    deskew: off\n"
+                                      "    sensor_frame: os_sensor\n    publish_tf: false\n";
+  const Ros2Config parsed = LoadConfig(dir / "ros2.yaml").daemon.ros2;
+  EXPECT_TRUE(parsed.enabled);
+  EXPECT_EQ(parsed.points_topic, "/ouster/points");
+  EXPECT_EQ(parsed.deskew, dds::PointTimes::kIgnored);
+  EXPECT_EQ(parsed.sensor_frame, "os_sensor");
+  EXPECT_FALSE(parsed.publish_tf);
+
+  const std::vector<std::pair<std::string, std::string>> mistakes = {
+      {"    deskew: sometimes\n", "'dammloamd.ros2.deskew' must be auto or off"},
+      {"    enabled: maybe\n", "'dammloamd.ros2.enabled' has the wrong type"},
+      {"    point_topic: /x\n", "'dammloamd.ros2.point_topic' is not a known key"},
+      {"    points_topic: \"/with space\"\n", "'dammloamd.ros2.points_topic'"},
+      {"    odometry_topic: /a//b\n", "'dammloamd.ros2.odometry_topic'"},
+      {"    labelled_cloud_topic: \"\"\n", "'dammloamd.ros2.labelled_cloud_topic' must not"},
+      {"    odom_frame: map\n", "'dammloamd.ros2.odom_frame' must differ from map_frame"},
+      {"    sensor_frame: /lidar\n", "'dammloamd.ros2.sensor_frame'"},
+      {"    map_frame: \"\"\n", "'dammloamd.ros2.map_frame' must not be empty"},
+  };
+  for (const auto& [yaml, expected] : mistakes) {
+    const std::string error = LoadError("dammloamd:\n  ros2:\n" + yaml);
+    EXPECT_NE(error.find(expected), std::string::npos) << yaml << " gave: " << error;
+  }
+}
+
 }  // namespace
 }  // namespace dammloam::daemon
