@@ -175,6 +175,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   s.Get("min_points", config.min_points);
   s.Get("max_time_gap", config.max_time_gap);
   s.Get("motion_model_max_deviation", config.motion_model_max_deviation);
+  s.Get("threshold_range_factor", config.threshold_range_factor);
   s.RejectUnknownKeys();
   ValidateOdometryConfig(config);
   return config;
@@ -272,6 +273,7 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
   Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");
+  Require(c.threshold_range_factor >= 0.0, "threshold_range_factor", "must be >= 0");
 }
 
 }  // namespace dammloam::io

@@ -69,13 +69,26 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
                  config.registration.min_motion_threshold, config.map.max_distance),
       translation_filter_(config.motion_prior) {}
 
+// A rotation error displaces a point in proportion to its range. KISS-ICP measures it at the
+// sensor's maximum range; where the scene is much smaller (a corridor) that inflates the
+// correspondence gate and the robust kernel many times over what the points ever moved.
+double Odometry::ThresholdReferenceRange(double median_range) const {
+  const double factor = config_.threshold_range_factor;
+  if (!(factor > 0.0) || !(median_range > 0.0)) return config_.map.max_distance;
+  return std::min(factor * median_range, config_.map.max_distance);
+}
+
 Eigen::Matrix3d Odometry::PredictedOrientation() const {
   return (T_world_last_ * ExpSE3(velocity_ * sensor_.scan_period)).linear();
 }
 
 void Odometry::Initialise(const ClassifiedScan& scan) {
-  map_ = VoxelHashMap(AutoVoxelSize(config_.map, MedianRange(scan.scan.points)),
-                      config_.map.max_distance, config_.map.max_points_per_voxel);
+  const double median_range = MedianRange(scan.scan.points);
+  map_ = VoxelHashMap(AutoVoxelSize(config_.map, median_range), config_.map.max_distance,
+                      config_.map.max_points_per_voxel);
+  threshold_ = AdaptiveThreshold(config_.registration.initial_threshold,
+                                 config_.registration.min_motion_threshold,
+                                 ThresholdReferenceRange(median_range));
   initialised_ = true;
 }
 
@@ -220,6 +233,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
     Eigen::Isometry3d T_guess = T_pred;  // the prediction the registration started from
     const double sigma = threshold_.Sigma();
+    result.correspondence_gate = 3.0 * sigma;
     RegistrationConfig registration = config_.registration;
     if (last_scan_degenerate_) {
       registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;

@@ -28,6 +28,7 @@ class Odometry {
   // R_world_sensor expected for the next scan (constant velocity over one scan period): the
   // feature stage uses it to judge "up".
   Eigen::Matrix3d PredictedOrientation() const;
+  double ThresholdReferenceRange(double median_range) const;
 
   OdometryResult Register(ClassifiedScan&& scan);
   // Register without the map update, so a caller can hand the pose on first (the daemon's

@@ -75,6 +75,7 @@ struct OdometryResult {
   std::size_t map_points = 0;  // in the local map after this scan (cropped: stays bounded)
   int iterations = 0;
   bool converged = false;
+  double correspondence_gate = 0.0;  // metres: 3 sigma of the adaptive threshold, this scan's
   StageTimings timings;
   // The deskewed scan in the sensor frame at scan start, with labels and normals, for
   // LabelledCloud publishing and keyframes.

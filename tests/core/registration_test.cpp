@@ -373,12 +373,22 @@ TEST(RegistrationMode, NamesRoundTrip) {
 TEST(AdaptiveThreshold, FollowsModelDeviation) {
   AdaptiveThreshold threshold(2.0, 0.1, 100.0);
   EXPECT_DOUBLE_EQ(threshold.Sigma(), 2.0);
-  threshold.UpdateModelDeviation(test::MakePose(0.01, 0, 0, 0, 0, 0));  // below min motion
-  EXPECT_DOUBLE_EQ(threshold.Sigma(), 2.0);
+  threshold.UpdateModelDeviation(test::MakePose(0.01, 0, 0, 0, 0, 0));  // below the floor
+  EXPECT_NEAR(threshold.Sigma(), 0.1, 1e-12) << "a small deviation counts as the floor";
   threshold.UpdateModelDeviation(test::MakePose(0.3, 0.4, 0, 0, 0, 0));
-  EXPECT_NEAR(threshold.Sigma(), 0.5, 1e-12);
+  EXPECT_NEAR(threshold.Sigma(), std::sqrt((0.01 + 0.25) / 2.0), 1e-12);
   threshold.UpdateModelDeviation(test::MakePose(0, 0, 0, 0, 0, 0.002));  // 0.2 m at 100 m
-  EXPECT_NEAR(threshold.Sigma(), std::sqrt((0.25 + 0.04) / 2.0), 1e-6);
+  EXPECT_NEAR(threshold.Sigma(), std::sqrt((0.01 + 0.25 + 0.04) / 3.0), 1e-6);
+}
+
+// Smooth motion in a small scene: every deviation is below the floor, and sigma settles on the
+// floor instead of staying at the initial guess (a 6 m gate for a whole corridor run).
+TEST(AdaptiveThreshold, SmallDeviationsSettleOnTheFloor) {
+  AdaptiveThreshold threshold(2.0, 0.1, 10.0);
+  for (int i = 0; i < 20; ++i) {
+    threshold.UpdateModelDeviation(test::MakePose(0.005, 0, 0, 0, 0, 0.001));
+  }
+  EXPECT_NEAR(threshold.Sigma(), 0.1, 1e-12);
 }
 
 }  // namespace

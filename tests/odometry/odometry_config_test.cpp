@@ -34,6 +34,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   EXPECT_DOUBLE_EQ(loaded.preprocess.normals.min_incidence_deg,
                    defaults.preprocess.normals.min_incidence_deg);
   EXPECT_DOUBLE_EQ(loaded.max_time_gap, defaults.max_time_gap);
+  EXPECT_DOUBLE_EQ(loaded.threshold_range_factor, defaults.threshold_range_factor);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
@@ -57,6 +58,8 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("map: {max_distance: -5}").find("map.max_distance"), std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
+  EXPECT_NE(ErrorOf("threshold_range_factor: -1").find("threshold_range_factor: must be >= 0"),
+            std::string::npos);
 }
 
 TEST(OdometryConfigYaml, MissingFileAndBadYamlNameTheFile) {
