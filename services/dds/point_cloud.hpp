@@ -106,6 +106,48 @@ struct CloudInput {
 
 CloudInput ViewOf(const dammloam_msg_PointCloud& cloud);
 
+// The native PointCloud and ROS 2's PointCloud2_ (both idlc-generated C) differ only in their
+// header; these fill everything else, for either type, so the two adapters keep only the header.
+template <typename CCloud>
+CloudInput ViewOfBody(const CCloud& cloud) {
+  CloudInput view;
+  view.height = cloud.height;
+  view.width = cloud.width;
+  view.fields.reserve(cloud.fields._length);
+  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
+    const auto& f = cloud.fields._buffer[i];
+    view.fields.push_back({f.name != nullptr ? f.name : "", f.offset, f.datatype, f.count});
+  }
+  view.is_bigendian = cloud.is_bigendian;
+  view.point_step = cloud.point_step;
+  view.row_step = cloud.row_step;
+  view.data = cloud.data._buffer;
+  view.data_size = cloud.data._length;
+  view.is_dense = cloud.is_dense;
+  return view;
+}
+
+// Points `sample` (all but its header) at `message` and `fields`, which must outlive it.
+template <typename CCloud, typename CField>
+void ViewBodyOf(const CloudMessage& message, std::vector<CField>& fields, CCloud& sample) {
+  fields.reserve(message.fields.size());
+  for (const auto& f : message.fields) {
+    fields.push_back({const_cast<char*>(f.name.c_str()), f.offset, f.datatype, f.count});
+  }
+  sample.height = message.height;
+  sample.width = message.width;
+  sample.fields._buffer = fields.data();
+  sample.fields._length = sample.fields._maximum = static_cast<std::uint32_t>(fields.size());
+  sample.fields._release = false;
+  sample.is_bigendian = message.is_bigendian;
+  sample.point_step = message.point_step;
+  sample.row_step = message.row_step;
+  sample.data._buffer = const_cast<std::uint8_t*>(message.data.data());
+  sample.data._length = sample.data._maximum = static_cast<std::uint32_t>(message.data.size());
+  sample.data._release = false;
+  sample.is_dense = message.is_dense;
+}
+
 struct CloudConversion {
   std::optional<Scan> scan;        // set on success
   std::string error;               // set on failure: what is wrong, naming the field/point

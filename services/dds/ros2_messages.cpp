@@ -26,44 +26,16 @@ std::string Ros2TopicName(const std::string& ros_name) {
 }
 
 CloudInput ViewOf(const sensor_msgs_msg_dds__PointCloud2_& cloud) {
-  CloudInput view;
+  CloudInput view = ViewOfBody(cloud);
   view.stamp = {cloud.header.stamp.sec, cloud.header.stamp.nanosec};
   view.frame_id = cloud.header.frame_id != nullptr ? cloud.header.frame_id : "";
-  view.height = cloud.height;
-  view.width = cloud.width;
-  view.fields.reserve(cloud.fields._length);
-  for (std::uint32_t i = 0; i < cloud.fields._length; ++i) {
-    const auto& f = cloud.fields._buffer[i];
-    view.fields.push_back({f.name != nullptr ? f.name : "", f.offset, f.datatype, f.count});
-  }
-  view.is_bigendian = cloud.is_bigendian;
-  view.point_step = cloud.point_step;
-  view.row_step = cloud.row_step;
-  view.data = cloud.data._buffer;
-  view.data_size = cloud.data._length;
-  view.is_dense = cloud.is_dense;
   return view;
 }
 
 Ros2CloudView::Ros2CloudView(const CloudMessage& message) {
-  fields_.reserve(message.fields.size());
-  for (const auto& f : message.fields) {
-    fields_.push_back({const_cast<char*>(f.name.c_str()), f.offset, f.datatype, f.count});
-  }
+  ViewBodyOf(message, fields_, sample_);
   sample_.header.stamp = ToRos2Time(message.stamp);
   sample_.header.frame_id = const_cast<char*>(message.frame_id.c_str());
-  sample_.height = message.height;
-  sample_.width = message.width;
-  sample_.fields._buffer = fields_.data();
-  sample_.fields._length = sample_.fields._maximum = static_cast<std::uint32_t>(fields_.size());
-  sample_.fields._release = false;
-  sample_.is_bigendian = message.is_bigendian;
-  sample_.point_step = message.point_step;
-  sample_.row_step = message.row_step;
-  sample_.data._buffer = const_cast<std::uint8_t*>(message.data.data());
-  sample_.data._length = sample_.data._maximum = static_cast<std::uint32_t>(message.data.size());
-  sample_.data._release = false;
-  sample_.is_dense = message.is_dense;
 }
 
 CloudMessage LabelledToRos2Cloud(const LabelledPoints& points, const std::string& frame_id) {
