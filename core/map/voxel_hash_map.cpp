@@ -31,8 +31,10 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
   AddPoints(world);
   // Cropping walks the whole map; the map only outgrows its radius by the distance travelled
   // since the last crop, so cropping after every 5% of the radius bounds memory just as well.
+  constexpr double kCropAfterShareOfRadius = 0.05;
   const Eigen::Vector3d origin = T_world_sensor.translation();
-  if (!last_crop_origin_ || (origin - *last_crop_origin_).norm() > 0.05 * max_distance_) {
+  if (!last_crop_origin_ ||
+      (origin - *last_crop_origin_).norm() > kCropAfterShareOfRadius * max_distance_) {
     RemoveFarVoxels(origin);
     last_crop_origin_ = origin;
   }

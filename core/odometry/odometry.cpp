@@ -12,6 +12,10 @@ namespace dammloam {
 
 namespace {
 
+// KISS-ICP's adaptive threshold: pairs farther than kGateSigmas sigma are outliers, and the
+// robust kernel's scale is sigma / kGateSigmas.
+constexpr double kGateSigmas = 3.0;
+
 class Stopwatch {
  public:
   double LapMs() {
@@ -82,13 +86,14 @@ Eigen::Matrix3d Odometry::PredictedOrientation() const {
   return (T_world_last_ * ExpSE3(velocity_ * sensor_.scan_period)).linear();
 }
 
-void Odometry::Initialise(const ClassifiedScan& scan) {
-  const double median_range = MedianRange(scan.scan.points);
+void Odometry::Initialise(Frame& frame) {
+  const double median_range = MedianRange(frame.scan.scan.points);
   map_ = VoxelHashMap(AutoVoxelSize(config_.map, median_range), config_.map.max_distance,
                       config_.map.max_points_per_voxel);
   threshold_ = AdaptiveThreshold(config_.registration.initial_threshold,
                                  config_.registration.min_motion_threshold,
                                  ThresholdReferenceRange(median_range));
+  first_scan_raw_ = std::move(frame.raw);
   initialised_ = true;
 }
 
@@ -181,133 +186,187 @@ double Odometry::CommitMap() {
   return watch.LapMs();
 }
 
+// One scan through the paper's pipeline: deskew -> select -> register -> update. A scan that
+// cannot be registered leaves every piece of state as it was.
 OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map) {
   CommitMap();
   Stopwatch watch;
+  OdometryResult result = NewResult(scan);
+  result.status = Admit(scan.scan);
+  if (!Registered(result.status)) return result;
+  const double dt = TimeStep(scan.scan.t_start, result.status);
+  Frame frame = Deskew(std::move(scan));
+  result.timings.deskew_ms = watch.LapMs();
+  frame.source = SelectSource(frame.scan);
+  result.timings.downsample_ms = watch.LapMs();
+  Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
+  if (!initialised_) {
+    Initialise(frame);
+    result.status = OdometryStatus::kFirstScan;
+  } else {
+    const RegistrationResult reg = RegisterFrame(frame, dt);
+    result.timings.registration_ms = watch.LapMs();
+    Describe(reg, result);
+    if (!reg.enough_correspondences) return Unregistered(std::move(result), frame);
+    T_new = reg.T_world_sensor;
+    UpdateMotionModel(frame, reg, dt, result.status);
+  }
+  InsertIntoMap(frame.scan, T_new, defer_map);
+  result.timings.map_update_ms = watch.LapMs();
+  return Finish(std::move(result), std::move(frame), T_new);
+}
+
+OdometryResult Odometry::NewResult(const ClassifiedScan& scan) {
   OdometryResult result;
   result.stamp = scan.scan.t_start;
   result.scan_index = next_index_++;
   result.class_counts = scan.class_counts;
-  result.T_world_sensor = T_world_last_;
+  result.T_world_sensor = last_start_pose_;  // what a rejected scan reports
   result.velocity = velocity_;
   result.timings.projection_ms = scan.projection_ms;
   result.timings.normals_ms = scan.normals_ms;
   result.timings.classification_ms = scan.classification_ms;
+  return result;
+}
 
-  // Reject what cannot be registered before touching any state.
-  if (scan.scan.empty()) {
-    result.status = OdometryStatus::kEmptyScan;
-  } else if (static_cast<int>(scan.scan.size()) < config_.min_points) {
-    result.status = OdometryStatus::kTooFewPoints;
-  } else if (initialised_ && scan.scan.t_start <= last_stamp_) {
-    result.status = OdometryStatus::kNonIncreasingStamp;
-  }
-  if (!Registered(result.status)) return result;
+// Reject what cannot be registered before touching any state.
+OdometryStatus Odometry::Admit(const Scan& scan) const {
+  if (scan.empty()) return OdometryStatus::kEmptyScan;
+  if (static_cast<int>(scan.size()) < config_.min_points) return OdometryStatus::kTooFewPoints;
+  if (initialised_ && scan.t_start <= last_stamp_) return OdometryStatus::kNonIncreasingStamp;
+  return OdometryStatus::kOk;
+}
 
-  const double dt = initialised_ ? scan.scan.t_start - last_stamp_ : sensor_.scan_period;
-  if (initialised_ && dt > config_.max_time_gap) {
+// The time since the last registered scan; after a longer gap than the motion model can
+// bridge, the model starts over (and the status says so).
+double Odometry::TimeStep(double t_start, OdometryStatus& status) {
+  if (!initialised_) return sensor_.scan_period;
+  const double dt = t_start - last_stamp_;
+  if (dt > config_.max_time_gap) {
     velocity_.setZero();
     translation_filter_.Reset();
     motion_model_holds_ = false;
     last_scan_degenerate_ = false;
-    result.status = OdometryStatus::kTimeGap;
+    status = OdometryStatus::kTimeGap;
   }
+  return dt;
+}
 
-  // Without a motion model that has held (start, reset, sharp acceleration) the deskew below
-  // is a guess; the raw scan is kept so that it can be redone with the measured motion.
-  const bool keep_raw = config_.deskew && scan.scan.has_times() && !motion_model_holds_;
-  std::optional<ClassifiedScan> raw;
-  if (keep_raw) raw = scan;
-  Eigen::Isometry3d T_mid_start = DeskewToMidScan(scan, velocity_);
-  result.timings.deskew_ms = watch.LapMs();
+Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan) const {
+  Frame frame;
+  // Without a motion model that has held (start, reset, sharp acceleration) the deskew is a
+  // guess; the raw scan is kept so that it can be redone with the measured motion.
+  if (config_.deskew && scan.scan.has_times() && !motion_model_holds_) frame.raw = scan;
+  frame.scan = std::move(scan);
+  frame.T_mid_start = DeskewToMidScan(frame.scan, velocity_);
+  return frame;
+}
 
-  SourcePoints source = SelectSource(scan);
-  result.timings.downsample_ms = watch.LapMs();
-
-  Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
-  if (!initialised_) {
-    Initialise(scan);
-    first_scan_raw_ = std::move(raw);
-    result.status = OdometryStatus::kFirstScan;
-  } else {
-    const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
-    Eigen::Isometry3d T_guess = T_pred;  // the prediction the registration started from
-    const double sigma = threshold_.Sigma();
-    result.correspondence_gate = 3.0 * sigma;
-    RegistrationConfig registration = config_.registration;
-    if (last_scan_degenerate_) {
-      registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
-    }
-    RegistrationResult reg =
-        RegisterScan(source.points, source.labels, map_, T_pred, 3.0 * sigma, sigma / 3.0,
-                     registration, Prior(dt, motion_model_holds_));
-    auto deviation = [&](const Eigen::Isometry3d& T) {
-      return (T_pred.inverse() * T).translation().norm();
-    };
-    if (raw && reg.enough_correspondences &&
-        deviation(reg.T_world_sensor) > config_.motion_model_max_deviation) {
-      // Deskew again with the motion just measured and refine from there: a sensor that
-      // starts while moving is otherwise registered with its whole scan smeared.
-      const Vector6d measured = LogSE3(T_world_last_.inverse() * reg.T_world_sensor) / dt;
-      // On the first registration the map is the first scan, smeared under the same guess:
-      // it is rebuilt with the measured motion, or only one of the two would be corrected.
-      if (first_scan_raw_) RebuildMapFromFirstScan(measured);
-      scan = std::move(*raw);
-      T_mid_start = DeskewToMidScan(scan, measured);
-      source = SelectSource(scan);
-      T_guess = T_world_last_ * ExpSE3(measured * dt);
-      translation_filter_.Reset();  // the velocity it predicted with was wrong
-      reg = RegisterScan(source.points, source.labels, map_, T_guess, 3.0 * sigma, sigma / 3.0,
-                         registration, Prior(dt, false));
-    }
-    first_scan_raw_.reset();
-    result.timings.registration_ms = watch.LapMs();
-    result.covariance = reg.covariance;
-    result.pose_covariance = PoseCovariance(reg);
-    result.degeneracy = reg.degeneracy;
-    result.alpha = reg.alpha;
-    result.num_correspondences = reg.num_planar + reg.num_point;
-    result.iterations = reg.iterations;
-    result.converged = reg.converged;
-    if (!reg.enough_correspondences) {
-      result.status = OdometryStatus::kTooFewCorrespondences;
-      result.T_world_sensor = T_pred;
-      return result;
-    }
-    T_new = reg.T_world_sensor;
-    if (result.status != OdometryStatus::kTimeGap) {
-      threshold_.UpdateModelDeviation(T_pred.inverse() * T_new);
-    }
-    velocity_ = UsesMotionPrior(config_.registration.mode)
-                    ? FilteredVelocity(T_guess, T_new, reg, dt)
-                    : LogSE3(T_world_last_.inverse() * T_new) / dt;
-    motion_model_holds_ = deviation(T_new) <= config_.motion_model_max_deviation;
-    last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
+RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
+  frame.T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
+  frame.T_guess = frame.T_pred;
+  RegistrationResult reg = RegisterSource(frame, Prior(dt, motion_model_holds_));
+  if (frame.raw && reg.enough_correspondences &&
+      Deviation(frame.T_pred, reg.T_world_sensor) > config_.motion_model_max_deviation) {
+    reg = RedeskewAndRegister(frame, reg, dt);
   }
+  first_scan_raw_.reset();
+  return reg;
+}
 
-  if (defer_map) {
-    ClassifiedScan copy;
-    copy.scan.points = scan.scan.points;
-    copy.labels = scan.labels;
-    copy.normals = scan.normals;
-    pending_map_update_.emplace(std::move(copy), T_new);
-  } else {
-    UpdateMap(scan, T_new);
+RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior) const {
+  RegistrationConfig registration = config_.registration;
+  // Degeneracy hysteresis: once a scan was degenerate, the next one is until the ratio
+  // clears the (higher) release ratio.
+  if (last_scan_degenerate_) {
+    registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
   }
-  result.timings.map_update_ms = watch.LapMs();
+  const double sigma = threshold_.Sigma();
+  return RegisterScan(frame.source.points, frame.source.labels, map_, frame.T_guess,
+                      kGateSigmas * sigma, sigma / kGateSigmas, registration, prior);
+}
+
+// Deskew again with the motion just measured and refine from there: a sensor that starts
+// while moving is otherwise registered with its whole scan smeared.
+RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const RegistrationResult& first,
+                                                 double dt) {
+  const Vector6d measured = LogSE3(T_world_last_.inverse() * first.T_world_sensor) / dt;
+  // On the first registration the map is the first scan, smeared under the same guess: it is
+  // rebuilt with the measured motion, or only one of the two would be corrected.
+  if (first_scan_raw_) RebuildMapFromFirstScan(measured);
+  frame.scan = std::move(*frame.raw);
+  frame.raw.reset();
+  frame.T_mid_start = DeskewToMidScan(frame.scan, measured);
+  frame.source = SelectSource(frame.scan);
+  frame.T_guess = T_world_last_ * ExpSE3(measured * dt);
+  translation_filter_.Reset();  // the velocity it predicted with was wrong
+  return RegisterSource(frame, Prior(dt, false));
+}
+
+double Odometry::Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T) {
+  return (T_pred.inverse() * T).translation().norm();
+}
+
+void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
+  result.correspondence_gate = kGateSigmas * threshold_.Sigma();
+  result.covariance = reg.covariance;
+  result.pose_covariance = PoseCovariance(reg);
+  result.degeneracy = reg.degeneracy;
+  result.alpha = reg.alpha;
+  result.num_correspondences = reg.num_planar + reg.num_point;
+  result.iterations = reg.iterations;
+  result.converged = reg.converged;
+}
+
+// Too few pairs: nothing is learnt; the pose reported is the prediction, at the scan start
+// like every other pose.
+OdometryResult Odometry::Unregistered(OdometryResult result, const Frame& frame) const {
+  result.status = OdometryStatus::kTooFewCorrespondences;
+  result.T_world_sensor = Normalized(frame.T_guess * frame.T_mid_start);
+  return result;
+}
+
+void Odometry::UpdateMotionModel(const Frame& frame, const RegistrationResult& reg, double dt,
+                                 OdometryStatus status) {
+  const Eigen::Isometry3d& T_new = reg.T_world_sensor;
+  if (status != OdometryStatus::kTimeGap) {
+    threshold_.UpdateModelDeviation(frame.T_pred.inverse() * T_new);
+  }
+  velocity_ = UsesMotionPrior(config_.registration.mode)
+                  ? FilteredVelocity(frame.T_guess, T_new, reg, dt)
+                  : LogSE3(T_world_last_.inverse() * T_new) / dt;
+  motion_model_holds_ = Deviation(frame.T_pred, T_new) <= config_.motion_model_max_deviation;
+  last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
+}
+
+void Odometry::InsertIntoMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
+                             bool defer) {
+  if (!defer) {
+    UpdateMap(scan, T_world_sensor);
+    return;
+  }
+  ClassifiedScan copy;
+  copy.scan.points = scan.scan.points;
+  copy.labels = scan.labels;
+  copy.normals = scan.normals;
+  pending_map_update_.emplace(std::move(copy), T_world_sensor);
+}
+
+OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,
+                                const Eigen::Isometry3d& T_new) {
   result.map_points = map_.NumPoints();
   T_world_last_ = T_new;
-  last_stamp_ = scan.scan.t_start;
-
-  result.T_world_sensor = Normalized(T_new * T_mid_start);
+  last_stamp_ = frame.scan.scan.t_start;
+  result.T_world_sensor = Normalized(T_new * frame.T_mid_start);
+  last_start_pose_ = result.T_world_sensor;
   result.velocity = velocity_;
-  TransformScan(T_mid_start.inverse(), scan);  // report the deskewed scan in the start frame
+  TransformScan(frame.T_mid_start.inverse(), frame.scan);  // reported in the start frame
   const StageTimings& t = result.timings;
   result.timings.total_ms = t.projection_ms + t.normals_ms + t.classification_ms + t.deskew_ms +
                             t.downsample_ms + t.registration_ms + t.map_update_ms;
-  result.deskewed_points = std::move(scan.scan.points);
-  result.labels = std::move(scan.labels);
-  result.normals = std::move(scan.normals);
+  result.deskewed_points = std::move(frame.scan.scan.points);
+  result.labels = std::move(frame.scan.labels);
+  result.normals = std::move(frame.scan.normals);
   return result;
 }
 

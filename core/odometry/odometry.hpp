@@ -51,6 +51,15 @@ class Odometry {
     std::vector<Eigen::Vector3d> points;
     std::vector<PointClass> labels;
   };
+  // One scan on its way through RegisterAndUpdate.
+  struct Frame {
+    ClassifiedScan scan;                 // deskewed, in the mid-scan frame
+    std::optional<ClassifiedScan> raw;   // as it came, while the motion model is unproven
+    Eigen::Isometry3d T_mid_start = Eigen::Isometry3d::Identity();
+    SourcePoints source;                 // the downsampled registration source
+    Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();   // constant-velocity prediction
+    Eigen::Isometry3d T_guess = Eigen::Isometry3d::Identity();  // where registration started
+  };
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
   SourcePoints SelectSource(const ClassifiedScan& scan);
   // The constant-velocity prediction's prior over a scan interval dt.
@@ -60,9 +69,25 @@ class Odometry {
                             const RegistrationResult& reg, double dt);
   Matrix6d PoseCovariance(const RegistrationResult& reg);
   void RebuildMapFromFirstScan(const Vector6d& velocity);
-  void Initialise(const ClassifiedScan& scan);
+  void Initialise(Frame& frame);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
   OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
+  // The steps of RegisterAndUpdate, in order.
+  OdometryResult NewResult(const ClassifiedScan& scan);
+  OdometryStatus Admit(const Scan& scan) const;
+  double TimeStep(double t_start, OdometryStatus& status);
+  Frame Deskew(ClassifiedScan&& scan) const;
+  RegistrationResult RegisterFrame(Frame& frame, double dt);
+  RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior) const;
+  RegistrationResult RedeskewAndRegister(Frame& frame, const RegistrationResult& first, double dt);
+  static double Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T);
+  void Describe(const RegistrationResult& reg, OdometryResult& result);
+  OdometryResult Unregistered(OdometryResult result, const Frame& frame) const;
+  void UpdateMotionModel(const Frame& frame, const RegistrationResult& reg, double dt,
+                         OdometryStatus status);
+  void InsertIntoMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
+                     bool defer);
+  OdometryResult Finish(OdometryResult result, Frame&& frame, const Eigen::Isometry3d& T_new);
 
   OdometryConfig config_;
   SensorModel sensor_;
@@ -73,7 +98,8 @@ class Odometry {
   bool initialised_ = false;
   double last_stamp_ = 0.0;
   std::uint64_t next_index_ = 0;
-  Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();  // mid-scan
+  Eigen::Isometry3d last_start_pose_ = Eigen::Isometry3d::Identity();  // as last reported
   Vector6d velocity_ = Vector6d::Zero();
   // The last registration landed within config_.motion_model_max_deviation of its prediction.
   bool motion_model_holds_ = false;

@@ -59,6 +59,44 @@ TEST(OdometryRobustness, BadScansGetAStatusAndLeaveTheMapAlone) {
   EXPECT_TRUE(gap.T_world_sensor.matrix().allFinite());
 }
 
+// Every status reports a pose in the same frame, the scan start: a rejected scan the last
+// reported pose, an unregistered one its predicted start pose (not the mid-scan pose, which
+// is half a scan of motion ahead).
+TEST(OdometryRobustness, RejectedAndUnregisteredScansReportScanStartPoses) {
+  constexpr int kRegistered = 24;  // past the simulator's speed ramp
+  const auto seq = bench::GenerateSequence(sim::SceneKind::Zigzag, sim::Vlp16(), kRegistered + 1);
+  OdometryPipeline pipeline(OdometryConfig{}, seq.model);
+  OdometryResult last;
+  for (int i = 0; i < kRegistered; ++i) {
+    last = pipeline.Process(seq.scans[static_cast<std::size_t>(i)]);
+    ASSERT_TRUE(Registered(last.status));
+  }
+  const Vector6d velocity = pipeline.odometry().velocity();
+  ASSERT_GT(velocity.head<3>().norm(), 0.3);  // moving: start and mid-scan poses differ
+  const Eigen::Isometry3d last_mid = pipeline.odometry().last_pose();
+
+  Scan empty;
+  empty.t_start = seq.scans[kRegistered - 1].t_start + 0.05;
+  const OdometryResult rejected = pipeline.Process(empty);
+  EXPECT_EQ(rejected.status, OdometryStatus::kEmptyScan);
+  EXPECT_TRUE(SamePose(rejected.T_world_sensor, last.T_world_sensor));
+
+  // Lifted 50 m above the map: valid points, but none near a map point.
+  Scan lifted = seq.scans[kRegistered];
+  for (auto& p : lifted.points) p.z() += 50.0;
+  const OdometryResult lost = pipeline.Process(lifted);
+  ASSERT_EQ(lost.status, OdometryStatus::kTooFewCorrespondences);
+  const double dt = seq.scans[kRegistered].t_start - seq.scans[kRegistered - 1].t_start;
+  // Predicted mid-scan pose, then back half a deskewed scan period to the scan start.
+  const Eigen::Isometry3d predicted_start =
+      last_mid * ExpSE3(velocity * dt) * ExpSE3(-0.5 * seq.model.scan_period * velocity);
+  EXPECT_LT((lost.T_world_sensor.translation() - predicted_start.translation()).norm(), 1e-9);
+  EXPECT_LT((lost.T_world_sensor.linear() - predicted_start.linear()).norm(), 1e-9);
+  // The predicted mid-scan pose, what was reported before, is half a scan of motion away.
+  const Eigen::Isometry3d predicted_mid = last_mid * ExpSE3(velocity * dt);
+  EXPECT_GT((predicted_mid.translation() - lost.T_world_sensor.translation()).norm(), 0.01);
+}
+
 // No hidden shared state: two pipelines interleaved give the same poses as each alone.
 TEST(OdometryRobustness, InterleavedPipelinesDoNotInterfere) {
   const auto a = bench::GenerateSequence(sim::SceneKind::Zigzag, sim::Vlp16(), 6);
