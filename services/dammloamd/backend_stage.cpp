@@ -21,12 +21,16 @@ backend::BackendConfig StageBackendConfig(bool verify_loops) {
 }  // namespace
 
 LoopClosureStage::LoopClosureStage(const dds::Participant& participant,
-                                   const DaemonConfig& config, bool verify_loops)
+                                   const DaemonConfig& config, bool verify_loops,
+                                   std::function<void(const std::string&)> on_failure,
+                                   FaultInjector fault)
     : map_frame_(config.map_frame),
       topic_(participant, dammloam_msg_LoopClosure_desc, config.topics.loop_closure,
              dds::LoopClosureQos()),
       writer_(participant, topic_, dds::LoopClosureQos()),
-      backend_(StageBackendConfig(verify_loops)) {}
+      backend_(StageBackendConfig(verify_loops)),
+      on_failure_(std::move(on_failure)),
+      fault_(std::move(fault)) {}
 
 void LoopClosureStage::Start() { thread_ = std::thread([this] { Loop(); }); }
 
@@ -82,9 +86,11 @@ void LoopClosureStage::Loop() {
 
 void LoopClosureStage::ProcessQueued() {
   try {
+    if (fault_) fault_(Stage::kBackend);
     for (const auto& event : backend_.Process()) Publish(event);
   } catch (const std::exception& e) {
-    spdlog::error("loop closure back-end: {}", e.what());
+    failed_ = true;
+    on_failure_(std::string("loop closure back-end failed: ") + e.what());
   }
 }
 

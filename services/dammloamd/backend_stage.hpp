@@ -2,9 +2,11 @@
 // The loop-closure back-end on its own thread: AddScan() is cheap (called by the publish
 // stage), Process() (retrieval, verification, Ceres) and map saves run on this thread and never
 // block odometry. Only built when the back-end library is (DAMMLOAM_HAVE_BACKEND).
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <string>
@@ -14,6 +16,7 @@
 #include "core/backend/loop_closing_backend.hpp"
 #include "services/dammloamd/command_stage.hpp"
 #include "services/dammloamd/daemon_config.hpp"
+#include "services/dammloamd/daemon_stats.hpp"
 #include "services/dds/dds.hpp"
 
 namespace dammloam::daemon {
@@ -21,9 +24,11 @@ namespace dammloam::daemon {
 class LoopClosureStage {
  public:
   // verify_loops = false keeps keyframes for saving but examines no loop candidate (as
-  // dammloam-odometry --no-loop-closure --save-map does).
+  // dammloam-odometry --no-loop-closure --save-map does). on_failure gets the text of every
+  // exception a back-end pass throws (on the back-end thread, or the caller's in SaveNow).
   LoopClosureStage(const dds::Participant& participant, const DaemonConfig& config,
-                   bool verify_loops);
+                   bool verify_loops, std::function<void(const std::string&)> on_failure,
+                   FaultInjector fault = {});
 
   void Start();
   // Joins the thread; save requests already queued are carried out first.
@@ -34,6 +39,10 @@ class LoopClosureStage {
   std::future<CommandOutcome> RequestSave(const std::filesystem::path& dir);
   // The same on the caller's thread, for after Stop() (the shutdown save).
   CommandOutcome SaveNow(const std::filesystem::path& dir);
+
+  // A back-end pass has thrown. Stays set for the rest of the run: after a pass that stopped
+  // half-way the pose graph's state is unknown, so loop closure cannot be called healthy again.
+  bool Failed() const { return failed_; }
 
  private:
   struct SaveRequest {
@@ -51,6 +60,9 @@ class LoopClosureStage {
   dds::Topic topic_;
   dds::Writer<dammloam_msg_LoopClosure> writer_;
   backend::LoopClosingBackend backend_;
+  std::function<void(const std::string&)> on_failure_;
+  FaultInjector fault_;
+  std::atomic<bool> failed_{false};
   std::uint64_t seq_ = 0;
   std::mutex mutex_;
   std::condition_variable wake_;

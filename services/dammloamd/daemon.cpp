@@ -3,7 +3,10 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <tuple>
+#include <vector>
 
 #include "core/odometry/unclassified_scan.hpp"
 #include "services/dds/messages.hpp"
@@ -52,6 +55,15 @@ dds::CloudLimits Ros2InputLimits(const DaemonConfig& config) {
   return limits;
 }
 
+// Points into `counts` (keys included): valid while that map is.
+std::vector<dammloam_msg_ReasonCount> ReasonCounts(
+    const std::map<std::string, std::uint64_t>& counts) {
+  std::vector<dammloam_msg_ReasonCount> out;
+  out.reserve(counts.size());
+  for (const auto& [reason, count] : counts) out.push_back({const_cast<char*>(reason.c_str()), count});
+  return out;
+}
+
 }  // namespace
 
 #ifdef DAMMLOAM_HAVE_BACKEND
@@ -60,6 +72,7 @@ bool Daemon::LoopClosureBuiltIn() { return true; }
 // Never instantiated without the back-end: they only let the wiring below compile.
 class LoopClosureStage {
  public:
+  bool Failed() const { return false; }
   void Start() {}
   void Stop() {}
   void AddScan(const OdometryResult&) {}
@@ -100,11 +113,13 @@ struct Daemon::Ros2Endpoints {
   std::uint64_t next_seq = 0;  // receive thread: ROS 2 headers carry no seq, the daemon counts
 };
 
-Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config)
+Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+               FaultInjector fault)
     : config_(config),
       odometry_config_(odometry_config),
       extractor_(odometry_config.preprocess, config.sensor),
       odometry_(odometry_config, config.sensor),
+      fault_(std::move(fault)),
       predicted_orientation_(odometry_.PredictedOrientation()),
       received_(config.queue_capacity, config.max_backlog),
       featured_(config.queue_capacity, config.max_backlog),
@@ -132,7 +147,9 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
 #ifdef DAMMLOAM_HAVE_BACKEND
   // The shutdown save needs keyframes even when loop closure is off.
   if (config.loop_closure || !config.save_map_on_shutdown.empty()) {
-    loop_closure_ = std::make_unique<LoopClosureStage>(participant_, config, config.loop_closure);
+    loop_closure_ = std::make_unique<LoopClosureStage>(
+        participant_, config, config.loop_closure,
+        [this](const std::string& message) { StageFailed(Stage::kBackend, message); }, fault_);
   }
   localization_ = std::make_unique<MapLocalization>();
 #endif
@@ -141,7 +158,10 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
       std::map<std::string, CommandHandler>{
           {"save_map", [this](const std::string& dir) { return SaveMapCommand(dir); }},
           {"relocalize", [this](const std::string& dir) { return RelocalizeCommand(dir); }}},
-      [this](const std::string& message) { CommandFailed(message); });
+      CommandEvents{[this](const std::string& message) { CommandFailed(message); },
+                    [this](const std::string& reason, const std::string& message) {
+                      CommandRefused(reason, message);
+                    }});
 }
 
 Daemon::~Daemon() { Stop(); }
@@ -175,7 +195,7 @@ void Daemon::ReceiveLoop() {
       const auto take_native = [this] {
         return points_reader_.TakeEach(
             [this](const dammloam_msg_PointCloud& cloud, const dds_sample_info_t&) {
-              HandleCloud(cloud);
+              ReceiveGuarded([&] { HandleCloud(cloud); });
             },
             4);
       };
@@ -183,7 +203,7 @@ void Daemon::ReceiveLoop() {
         if (!ros2_) return 0;
         return ros2_->points_reader.TakeEach(
             [this](const sensor_msgs_msg_dds__PointCloud2_& cloud, const dds_sample_info_t&) {
-              HandleRos2Cloud(cloud);
+              ReceiveGuarded([&] { HandleRos2Cloud(cloud); });
             },
             4);
       };
@@ -191,8 +211,17 @@ void Daemon::ReceiveLoop() {
       while (!stop_ && take_native() + take_ros2() > 0) {
       }
     } catch (const std::exception& e) {
-      spdlog::error("receive stage: {}", e.what());
+      StageFailed(Stage::kReceive, std::string("receive stage: ") + e.what());
     }
+  }
+}
+
+// A failure while handling one sample costs that sample only, not the others taken with it.
+void Daemon::ReceiveGuarded(const std::function<void()>& handle) {
+  try {
+    handle();
+  } catch (const std::exception& e) {
+    StageFailed(Stage::kReceive, std::string("receive stage: ") + e.what());
   }
 }
 
@@ -210,6 +239,7 @@ void Daemon::HandleRos2Cloud(const sensor_msgs_msg_dds__PointCloud2_& cloud) {
 void Daemon::Accept(const dds::CloudInput& cloud, std::uint64_t seq,
                     const dds::CloudLimits& limits, const std::string& sample) {
   stats_.Received();
+  InjectFault(Stage::kReceive);
   dds::CloudConversion conversion = dds::CloudToScan(cloud, limits);
   if (!conversion.scan) return Reject(sample, cloud.stamp, conversion.code, conversion.error);
   // One timeline for both inputs: the odometry cannot go back in time.
@@ -316,12 +346,13 @@ void Daemon::PublishLoop() {
         }
       }
     } catch (const std::exception& e) {
-      spdlog::error("publish stage: {}", e.what());
+      StageFailed(Stage::kPublish, std::string("publish stage: ") + e.what());
     }
   }
 }
 
 void Daemon::Publish(const RegisteredScan& item) {
+  InjectFault(Stage::kPublish);
   const OdometryResult& r = item.result;
   // In localization mode the pose and status say where the scan is in the loaded map.
   const std::optional<MapPose> located = Locate(r);
@@ -416,6 +447,8 @@ std::optional<MapPose> Daemon::Locate(const OdometryResult& result) {
 
 std::uint8_t Daemon::RunningState() const {
   if (stats_.Snapshot().processed == 0) return dammloam_msg_STATE_WAITING;
+  // Odometry goes on, but the map is no longer being corrected: not a healthy state.
+  if (loop_closure_ && loop_closure_->Failed()) return dammloam_msg_STATE_DEGRADED;
 #ifdef DAMMLOAM_HAVE_BACKEND
   if (localization_->Active()) return dammloam_msg_STATE_LOCALIZING;
 #endif
@@ -449,6 +482,30 @@ void Daemon::CommandFailed(const std::string& message) {
   PublishStatus(true, dammloam_msg_STATE_DEGRADED);
 }
 
+void Daemon::CommandRefused(const std::string& reason, const std::string& message) {
+  stats_.CommandRefused(reason, message);
+  PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+}
+
+const char* Daemon::LoopClosureState() const {
+  if (loop_closure_ && loop_closure_->Failed()) return "failed";
+  return loop_closure_ && config_.loop_closure ? "ok" : "off";
+}
+
+void Daemon::InjectFault(Stage stage) const {
+  if (fault_) fault_(stage);
+}
+
+void Daemon::StageFailed(Stage stage, const std::string& message) {
+  spdlog::error("{}", message);
+  stats_.StageFailed(stage, message);
+  try {
+    PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+  } catch (const std::exception& e) {  // the Status writer may be what failed: counted above
+    spdlog::error("{} stage failure not published as a Status: {}", Name(stage), e.what());
+  }
+}
+
 // Runs in Stop() after every thread has ended, so the map is complete on disk when the process
 // exits (SaveMap renames a finished directory into place).
 void Daemon::SaveOnShutdown() {
@@ -466,13 +523,8 @@ void Daemon::SaveOnShutdown() {
 
 void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   const StatusSnapshot s = stats_.Snapshot();
-  std::vector<std::string> reasons;
-  std::vector<dammloam_msg_ReasonCount> counts;
-  reasons.reserve(s.by_reason.size());
-  for (const auto& [reason, count] : s.by_reason) {
-    reasons.push_back(reason);
-    counts.push_back({const_cast<char*>(reasons.back().c_str()), count});
-  }
+  std::vector<dammloam_msg_ReasonCount> counts = ReasonCounts(s.by_reason);
+  std::vector<dammloam_msg_ReasonCount> refused = ReasonCounts(s.refused_by_reason);
   dammloam_msg_Status msg{};
   msg.header.stamp = dds::ToMsgTime(std::chrono::duration<double>(
       std::chrono::system_clock::now().time_since_epoch()).count());
@@ -494,6 +546,14 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.last_error = const_cast<char*>(s.last_error.c_str());
   msg.last_error_stamp = dds::ToMsgTime(s.last_error_wall_time);
   msg.is_error_event = error_event;
+  msg.commands_refused = s.commands_refused;
+  msg.refused_by_reason._buffer = refused.data();
+  msg.refused_by_reason._length = msg.refused_by_reason._maximum =
+      static_cast<std::uint32_t>(refused.size());
+  msg.receive_errors = s.receive_errors;
+  msg.publish_errors = s.publish_errors;
+  msg.backend_errors = s.backend_errors;
+  msg.loop_closure = const_cast<char*>(LoopClosureState());
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

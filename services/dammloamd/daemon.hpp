@@ -7,6 +7,7 @@
 // previous scan, so in lock-step it makes exactly the calls OdometryPipeline::Process makes.
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -55,7 +56,9 @@ struct MapPose;
 
 class Daemon {
  public:
-  Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config);
+  // `fault` is a test seam (daemon_stats.hpp); production passes none.
+  Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+         FaultInjector fault = {});
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;
@@ -75,6 +78,7 @@ class Daemon {
   void RegistrationLoop();
   void PublishLoop();
 
+  void ReceiveGuarded(const std::function<void()>& handle);
   void HandleCloud(const dammloam_msg_PointCloud& cloud);
   void HandleRos2Cloud(const sensor_msgs_msg_dds__PointCloud2_& cloud);
   // Both inputs end here: validates, converts and queues one cloud. `sample` names it in errors.
@@ -91,11 +95,16 @@ class Daemon {
   std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
   std::uint8_t RunningState() const;
+  const char* LoopClosureState() const;
+  void InjectFault(Stage stage) const;
+  // Counts an exception caught in a stage and publishes it as a Status error event.
+  void StageFailed(Stage stage, const std::string& message);
 
   // Command handlers (command thread).
   CommandOutcome SaveMapCommand(const std::string& dir);
   CommandOutcome RelocalizeCommand(const std::string& dir);
   void CommandFailed(const std::string& message);
+  void CommandRefused(const std::string& reason, const std::string& message);
   void SaveOnShutdown();
 
   DaemonConfig config_;
@@ -103,6 +112,7 @@ class Daemon {
   FeatureExtractor extractor_;
   Odometry odometry_;
   DaemonStats stats_;
+  FaultInjector fault_;
 
   // Orientation predicted by the registration stage for the next scan.
   mutable std::mutex prediction_mutex_;

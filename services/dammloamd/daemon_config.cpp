@@ -90,6 +90,17 @@ void ReadRos2(const YAML::Node& node, Ros2Config& r) {
   }
 }
 
+void ReadCommands(const YAML::Node& node, CommandsConfig& c) {
+  const std::string path = "dammloamd.commands";
+  RejectUnknownKeys(node, path, {"enabled", "map_root", "token", "allowed_participants"});
+  Read(node, "enabled", path, c.enabled);
+  std::string map_root;
+  Read(node, "map_root", path, map_root);
+  c.map_root = map_root;
+  Read(node, "token", path, c.token);
+  Read(node, "allowed_participants", path, c.allowed_participants);
+}
+
 // ROS 2 names: [A-Za-z0-9_/], no empty tokens, no trailing slash (what rcl accepts, minus ~ and
 // substitutions, which need a node).
 void ValidateRos2Name(const std::string& key, const std::string& name) {
@@ -138,7 +149,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   const std::string path = "dammloamd";
   RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
                                  "queues", "publish", "loop_closure", "save_map_on_shutdown",
-                                 "ros2"});
+                                 "ros2", "commands"});
   if (!node) return c;
   Read(node, "domain", path, c.domain);
   Read(node, "node_name", path, c.node_name);
@@ -150,6 +161,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   ReadSensor(node["sensor"], c);
   ReadTopics(node["topics"], c.topics);
   ReadRos2(node["ros2"], c.ros2);
+  ReadCommands(node["commands"], c.commands);
 
   const YAML::Node input = node["input"];
   RejectUnknownKeys(input, "dammloamd.input",
@@ -194,6 +206,29 @@ void ValidateSaveOnShutdown(const std::filesystem::path& dir) {
   if (!fs::is_directory(parent, ec) || ::access(parent.c_str(), W_OK) != 0) {
     Fail(key, "(" + dir.string() + "): parent directory " + parent.string() +
                   " does not exist or is not writable");
+  }
+}
+
+// An enabled command channel needs somewhere to confine paths to; the allow-list entries must be
+// hex so that a typo cannot silently admit nobody.
+void ValidateCommands(const CommandsConfig& c) {
+  namespace fs = std::filesystem;
+  const std::string path = "dammloamd.commands";
+  for (const std::string& prefix : c.allowed_participants) {
+    if (prefix.empty() || prefix.size() > 32 ||
+        prefix.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
+      Fail(path + ".allowed_participants", "entries must be 1 to 32 hex digits (is '" + prefix +
+                                               "')");
+    }
+  }
+  if (!c.enabled) return;
+  if (c.map_root.empty()) Fail(path + ".map_root", "must be set when commands are enabled");
+  std::error_code ec;
+  if (!c.map_root.is_absolute()) {
+    Fail(path + ".map_root", "(" + c.map_root.string() + ") must be an absolute path");
+  }
+  if (!fs::is_directory(c.map_root, ec)) {
+    Fail(path + ".map_root", "(" + c.map_root.string() + ") is not an existing directory");
   }
 }
 
@@ -248,6 +283,7 @@ void ValidateDaemonConfig(const DaemonConfig& c) {
   }
   ValidateSaveOnShutdown(c.save_map_on_shutdown);
   ValidateRos2(c.ros2);
+  ValidateCommands(c.commands);
 }
 
 }  // namespace dammloam::daemon

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/geometry/scan.hpp"
 #include "core/odometry/odometry_config.hpp"
@@ -28,6 +29,22 @@ struct Ros2Config {
   dds::PointTimes deskew = dds::PointTimes::kRequired;
 };
 
+// The `commands` section: who may send Command samples and where their directories may be.
+// Off unless enabled: any participant on the domain could otherwise write or load maps anywhere.
+struct CommandsConfig {
+  bool enabled = false;
+  // Every save_map / relocalize directory must resolve (symlinks followed) strictly inside this
+  // existing directory; relative names are taken relative to it. Required when enabled.
+  std::filesystem::path map_root;
+  // Non-empty: Command.token must equal it (compared in constant time).
+  std::string token;
+  // Non-empty: the sending participant's GUID (32 hex digits, as the daemon logs and refusals
+  // name it) must start with one of these hex prefixes. Cyclone draws a new random GUID (after
+  // its vendor bytes 0110) for every participant, so a prefix only pins a Cyclone sender for one
+  // run; Fast DDS derives it from host and process. Without DDS Security a GUID can be forged.
+  std::vector<std::string> allowed_participants;
+};
+
 struct DaemonConfig {
   std::uint32_t domain = 0;
   std::string node_name = "dammloamd";
@@ -48,6 +65,7 @@ struct DaemonConfig {
   // no loop search) even when loop_closure is false.
   std::filesystem::path save_map_on_shutdown;
   Ros2Config ros2;
+  CommandsConfig commands;
 };
 
 struct FullConfig {

@@ -13,7 +13,21 @@ double Percentile(const std::vector<double>& sorted, double q) {
   return sorted[std::min(index, sorted.size() - 1)];
 }
 
+double WallSeconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 }  // namespace
+
+const char* Name(Stage stage) {
+  switch (stage) {
+    case Stage::kReceive: return "receive";
+    case Stage::kPublish: return "publish";
+    case Stage::kBackend: return "backend";
+  }
+  return "?";
+}
 
 void DaemonStats::Received() {
   std::lock_guard lock(mutex_);
@@ -34,23 +48,38 @@ void DaemonStats::Dropped(const std::string& where) {
 }
 
 void DaemonStats::Rejected(const std::string& code, const std::string& message) {
-  const double now = std::chrono::duration<double>(
-                         std::chrono::system_clock::now().time_since_epoch()).count();
   std::lock_guard lock(mutex_);
   ++counters_.rejected;
-  ++counters_.errors;
   ++counters_.by_reason["rejected:" + code];
-  counters_.last_error = message;
-  counters_.last_error_wall_time = now;
+  NoteError(message);
 }
 
 void DaemonStats::Error(const std::string& message) {
-  const double now = std::chrono::duration<double>(
-                         std::chrono::system_clock::now().time_since_epoch()).count();
   std::lock_guard lock(mutex_);
+  NoteError(message);
+}
+
+void DaemonStats::CommandRefused(const std::string& reason, const std::string& message) {
+  std::lock_guard lock(mutex_);
+  ++counters_.commands_refused;
+  ++counters_.refused_by_reason[reason];
+  NoteError(message);
+}
+
+void DaemonStats::StageFailed(Stage stage, const std::string& message) {
+  std::lock_guard lock(mutex_);
+  switch (stage) {
+    case Stage::kReceive: ++counters_.receive_errors; break;
+    case Stage::kPublish: ++counters_.publish_errors; break;
+    case Stage::kBackend: ++counters_.backend_errors; break;
+  }
+  NoteError(message);
+}
+
+void DaemonStats::NoteError(const std::string& message) {
   ++counters_.errors;
   counters_.last_error = message;
-  counters_.last_error_wall_time = now;
+  counters_.last_error_wall_time = WallSeconds();
 }
 
 StatusSnapshot DaemonStats::Snapshot() const {

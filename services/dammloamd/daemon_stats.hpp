@@ -2,15 +2,27 @@
 // Counters and latency window behind the Status topic; every daemon thread reports here.
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
 
 namespace dammloam::daemon {
 
+// The stages whose caught exceptions are counted apart (Status.*_errors).
+enum class Stage { kReceive, kPublish, kBackend };
+const char* Name(Stage stage);
+
+// Test seam: called where each stage's guarded work starts (receive: per sample, publish: per
+// pose, backend: per pass); a test throws from it to see the failure reported. Empty otherwise.
+using FaultInjector = std::function<void(Stage)>;
+
 struct StatusSnapshot {
   std::uint64_t received = 0, processed = 0, dropped = 0, rejected = 0, errors = 0;
   std::map<std::string, std::uint64_t> by_reason;  // "rejected:<code>" and "dropped:<where>"
+  std::uint64_t commands_refused = 0;
+  std::map<std::string, std::uint64_t> refused_by_reason;
+  std::uint64_t receive_errors = 0, publish_errors = 0, backend_errors = 0;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -24,9 +36,15 @@ class DaemonStats {
   void Rejected(const std::string& code, const std::string& message);
   // An error that is not about a scan (a failed command): counted and shown as last_error.
   void Error(const std::string& message);
+  // A Command refused before it ran (an error too).
+  void CommandRefused(const std::string& reason, const std::string& message);
+  // An exception caught in a stage (an error too).
+  void StageFailed(Stage stage, const std::string& message);
   StatusSnapshot Snapshot() const;
 
  private:
+  void NoteError(const std::string& message);  // mutex_ held
+
   static constexpr std::size_t kLatencyWindow = 100;
   mutable std::mutex mutex_;
   StatusSnapshot counters_;

@@ -111,8 +111,16 @@ int main(int argc, char** argv) {
                  d.domain, d.topics.points, d.topics.odometry, d.topics.labelled_cloud,
                  d.topics.status, d.sensor_name, d.sensor.rings, d.sensor.columns,
                  d.loop_closure && dammloam::daemon::Daemon::LoopClosureBuiltIn() ? "on" : "off");
-    spdlog::info("commands on {} (save_map, relocalize), replies on {}; map saved on shutdown: {}",
-                 d.topics.command, d.topics.command_reply,
+    if (d.commands.enabled) {
+      spdlog::info("commands on {} (save_map, relocalize) in {}, replies on {}; token {}, "
+                   "{} allowed participant prefixes", d.topics.command,
+                   d.commands.map_root.string(), d.topics.command_reply,
+                   d.commands.token.empty() ? "off" : "required",
+                   d.commands.allowed_participants.size());
+    } else {
+      spdlog::info("commands disabled (dammloamd.commands.enabled): every Command is refused");
+    }
+    spdlog::info("map saved on shutdown: {}",
                  d.save_map_on_shutdown.empty() ? "no" : d.save_map_on_shutdown.string());
     if (d.ros2.enabled) {
       spdlog::info("ROS 2: {} -> {}, {}{}; frames {} -> {} -> {}; deskew {}", d.ros2.points_topic,

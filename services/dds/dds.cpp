@@ -1,5 +1,6 @@
 #include "services/dds/dds.hpp"
 
+#include <cstdint>
 #include <thread>
 
 namespace dammloam::dds {
@@ -88,6 +89,31 @@ int ReaderBase::MatchedWriters() const {
   dds_subscription_matched_status_t status{};
   Check(dds_get_subscription_matched_status(handle(), &status), "subscription matched status");
   return static_cast<int>(status.current_count);
+}
+
+std::string GuidText(const dds_guid_t& guid) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string text;
+  for (const std::uint8_t byte : guid.v) {
+    text += kHex[byte >> 4];
+    text += kHex[byte & 0xF];
+  }
+  return text;
+}
+
+std::string ParticipantGuid(const Participant& participant) {
+  dds_guid_t guid{};
+  Check(dds_get_guid(participant.handle(), &guid), "participant GUID");
+  return GuidText(guid);
+}
+
+std::string SenderParticipantGuid(const ReaderBase& reader, dds_instance_handle_t publication) {
+  dds_builtintopic_endpoint_t* writer =
+      dds_get_matched_publication_data(reader.handle(), publication);
+  if (writer == nullptr) return "";
+  std::string guid = GuidText(writer->participant_key);
+  dds_builtintopic_free_endpoint(writer);
+  return guid;
 }
 
 int ReaderBase::TakeLoans(void** samples, dds_sample_info_t* infos, int max) const {

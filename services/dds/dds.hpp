@@ -130,6 +130,14 @@ class Reader : public ReaderBase {
   }
 };
 
+// 32 lower-case hex digits of a DDS GUID (participant prefix first).
+std::string GuidText(const dds_guid_t& guid);
+// The GUID of this participant.
+std::string ParticipantGuid(const Participant& participant);
+// The GUID of the participant whose writer sent a sample this reader took (sample info's
+// publication_handle); empty when that writer is no longer matched.
+std::string SenderParticipantGuid(const ReaderBase& reader, dds_instance_handle_t publication);
+
 // Blocks a thread until data arrives on any attached reader, a timeout, or Wake().
 class WaitSet : public Entity {
  public:

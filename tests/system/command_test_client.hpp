@@ -41,20 +41,23 @@ class CommandClient {
     return false;
   }
 
-  void Send(std::uint64_t request_id, const std::string& name, const std::string& argument) {
+  void Send(std::uint64_t request_id, const std::string& name, const std::string& argument,
+            const std::string& token = "") {
     dammloam_msg_Command msg{};
     msg.header.frame_id = const_cast<char*>("");
     msg.request_id = request_id;
     msg.name = const_cast<char*>(name.c_str());
     msg.argument = const_cast<char*>(argument.c_str());
+    msg.token = const_cast<char*>(token.c_str());
     commands_.Write(msg);
   }
 
   // Sends and waits for the reply with this request id.
   std::optional<ReceivedReply> Call(std::uint64_t request_id, const std::string& name,
                                     const std::string& argument,
-                                    std::chrono::milliseconds timeout) {
-    Send(request_id, name, argument);
+                                    std::chrono::milliseconds timeout,
+                                    const std::string& token = "") {
+    Send(request_id, name, argument, token);
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (true) {
       Poll();
@@ -72,6 +75,9 @@ class CommandClient {
                          m.message != nullptr ? m.message : ""});
     }, 16);
   }
+
+  // What the daemon sees as this commander's identity (dammloamd.commands.allowed_participants).
+  std::string Guid() const { return dds::ParticipantGuid(participant_); }
 
   std::vector<ReceivedReply> replies;
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
@@ -41,7 +42,21 @@ struct ReceivedStatus {
   std::uint8_t state = 0;
   std::string last_error;
   std::uint64_t received = 0, processed = 0, dropped = 0, rejected = 0;
+  std::uint64_t commands_refused = 0;
+  std::map<std::string, std::uint64_t> refused_by_reason;
+  std::uint64_t receive_errors = 0, publish_errors = 0, backend_errors = 0;
+  std::string loop_closure;
 };
+
+inline ReceivedStatus CopyStatus(const dammloam_msg_Status& m) {
+  ReceivedStatus s{m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
+                   m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
+                   m.publish_errors, m.backend_errors, m.loop_closure};
+  for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
+    s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;
+  }
+  return s;
+}
 
 struct ReceivedLabelledCloud {
   dammloam_msg_Time stamp{};
@@ -91,8 +106,7 @@ class DdsTestClient {
                        m.status});
     }, 64);
     status_.TakeEach([this](const dammloam_msg_Status& m, const dds_sample_info_t&) {
-      statuses.push_back({m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
-                          m.scans_dropped, m.scans_rejected});
+      statuses.push_back(CopyStatus(m));
     }, 64);
     labelled_.TakeEach([this](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {
       ReceivedLabelledCloud c;

@@ -1,7 +1,7 @@
 // dammloam-command as a separate process against dammloamd fed by dammloam-replay (loopback DDS,
 // own domain per test): save_map exits 0 with a map the map store loads, the daemon's errors
-// exit 1 with its message, no daemon exits 3 within the timeout, bad usage and a missing
-// CYCLONEDDS_URI exit 2.
+// exit 1 with its message (a missing or wrong --token too: refused), no daemon exits 3 within
+// the timeout, bad usage and a missing CYCLONEDDS_URI exit 2.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -24,6 +24,7 @@ using std::chrono::milliseconds;
 constexpr int kScans = 12;              // enough for keyframes in the back-end's map
 constexpr const char* kTimeout = "60";  // the tool's --timeout: sanitizer builds are slow
 constexpr milliseconds kToolWait(70000);
+constexpr const char* kToken = "tool-test-token";
 
 class CommandTool : public ::testing::Test {
  protected:
@@ -40,6 +41,14 @@ struct CommandRun {
   std::string output;
 };
 
+// Commands enabled inside dir, with a token.
+fs::path WriteCommandConfig(const fs::path& dir) {
+  std::ofstream(dir / "daemon.yaml") << "dammloamd:\n  commands:\n    enabled: true\n"
+                                     << "    map_root: " << dir.string() << "\n"
+                                     << "    token: " << kToken << "\n";
+  return dir / "daemon.yaml";
+}
+
 // dammloamd (with the back-end: it holds the map save_map writes) after a lock-step replay of
 // a short simulated drive written to dir/seq.
 class TrackingDaemon {
@@ -48,7 +57,8 @@ class TrackingDaemon {
       : domain_(domain),
         daemon_("dammloamd",
                 {"--domain", std::to_string(domain), "--sensor-meta",
-                 (dir / "seq" / "meta.json").string()},
+                 (dir / "seq" / "meta.json").string(), "--config",
+                 WriteCommandConfig(dir).string()},
                 dir / "daemon.log") {
     ChildProcess replay("dammloam-replay",
                         {(dir / "seq").string(), "--domain", std::to_string(domain), "--lockstep",
@@ -58,10 +68,12 @@ class TrackingDaemon {
     EXPECT_TRUE(code && *code == 0) << replay.Log() << daemon_.Log();
   }
 
-  // Runs dammloam-command with these arguments on this daemon's domain.
-  CommandRun Command(const std::vector<std::string>& args, const fs::path& log) const {
+  // Runs dammloam-command with these arguments on this daemon's domain (and its token).
+  CommandRun Command(const std::vector<std::string>& args, const fs::path& log,
+                     const std::string& token = kToken) const {
     std::vector<std::string> all = args;
     all.insert(all.end(), {"--domain", std::to_string(domain_), "--timeout", kTimeout});
+    if (!token.empty()) all.insert(all.end(), {"--token", token});
     ChildProcess tool("dammloam-command", all, log);
     const std::optional<int> code = tool.Wait(kToolWait);
     return {code, tool.Log()};
@@ -121,6 +133,17 @@ TEST_F(CommandTool, DaemonErrorsExitOneWithTheDaemonsMessage) {
   EXPECT_EQ(*run.code, 1) << run.output;
   EXPECT_TRUE(Contains(run.output, "unknown command 'fly_to_the_moon'")) << run.output;
   EXPECT_FALSE(Contains(run.output, "precious.txt")) << run.output;
+
+  // Without the token, and with a wrong one: refused, nothing written.
+  run = daemon.Command({"save_map", (dir / "map").string()}, dir / "no-token.log", "");
+  ASSERT_TRUE(run.code) << run.output;
+  EXPECT_EQ(*run.code, 1) << run.output;
+  EXPECT_TRUE(Contains(run.output, "error: refused [wrong_token]")) << run.output;
+  run = daemon.Command({"save_map", (dir / "map").string()}, dir / "bad-token.log", "guess");
+  ASSERT_TRUE(run.code) << run.output;
+  EXPECT_EQ(*run.code, 1) << run.output;
+  EXPECT_TRUE(Contains(run.output, "error: refused [wrong_token]")) << run.output;
+  EXPECT_FALSE(fs::exists(dir / "map"));
 }
 
 TEST_F(CommandTool, WithoutADaemonExitsThreeWithinTheTimeout) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <csignal>
 #include <fstream>
+#include <map>
 #include <regex>
 
 #include "services/dammloamd/daemon.hpp"
@@ -24,21 +25,25 @@ using std::chrono::milliseconds;
 constexpr milliseconds kTimeout(60000);  // sanitizer builds are slow
 constexpr int kScans = 45;               // 4.5 s of the zigzag drive (from rest): several keyframes
 
-daemon::DaemonConfig CommandTestConfig(std::uint32_t domain, const sim::Simulator& simulator) {
+// Commands enabled, confined to map_root (no token, no allow-list).
+daemon::DaemonConfig CommandTestConfig(std::uint32_t domain, const sim::Simulator& simulator,
+                                       const fs::path& map_root) {
   daemon::DaemonConfig config;
   config.domain = domain;
   config.sensor = simulator.sensor_model();
   config.loop_closure = true;  // the back-end holds the map that save_map writes
   config.labelled_cloud_every = 0;
   config.status_period = 0.2;
+  config.commands.enabled = true;
+  config.commands.map_root = map_root;
   return config;
 }
 
 // A daemon in this process with a pose client and a commander on its domain.
 struct Harness {
-  Harness(std::uint32_t domain, const sim::Simulator& sim)
-      : simulator(sim), daemon(CommandTestConfig(domain, sim), OdometryConfig{}),
-        client(domain), commander(domain) {
+  Harness(const daemon::DaemonConfig& config, const sim::Simulator& sim)
+      : simulator(sim), daemon(config, OdometryConfig{}), client(config.domain),
+        commander(config.domain) {
     daemon.Start();
     EXPECT_TRUE(client.WaitForDaemon(milliseconds(10000)));
     EXPECT_TRUE(commander.WaitForDaemon(milliseconds(10000)));
@@ -56,8 +61,9 @@ struct Harness {
     return {};
   }
 
-  ReceivedReply Call(std::uint64_t id, const std::string& name, const std::string& argument) {
-    const auto reply = commander.Call(id, name, argument, kTimeout);
+  ReceivedReply Call(std::uint64_t id, const std::string& name, const std::string& argument,
+                     const std::string& token = "") {
+    const auto reply = commander.Call(id, name, argument, kTimeout, token);
     EXPECT_TRUE(reply) << "no reply to " << name << " " << argument;
     return reply.value_or(ReceivedReply{});
   }
@@ -83,7 +89,7 @@ bool Contains(const std::string& text, const std::string& part) {
 TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
   const auto dir = TestDir("cmd-save");
   const sim::Simulator simulator = SmallSimulator(kScans);
-  Harness h(91, simulator);
+  Harness h(CommandTestConfig(91, simulator, dir), simulator);
   for (int i = 0; i < kScans; ++i) h.Track(i);
 
   const ReceivedReply reply = h.Call(1, "save_map", (dir / "map").string());
@@ -107,7 +113,7 @@ TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
 TEST_F(DaemonCommands, FailedCommandsAreAnsweredWithErrorsWhileTrackingGoesOn) {
   const auto dir = TestDir("cmd-errors");
   const sim::Simulator simulator = SmallSimulator(8);
-  Harness h(92, simulator);
+  Harness h(CommandTestConfig(92, simulator, dir), simulator);
 
   // Before any scan: the map is empty.
   ReceivedReply reply = h.Call(1, "save_map", (dir / "early").string());
@@ -168,14 +174,14 @@ TEST_F(DaemonCommands, RelocalizeTracksInTheSavedMapCloseToTheMappingRun) {
   // Mapping run: poses of every scan in the map frame, then the map.
   std::vector<Eigen::Isometry3d> mapped;
   {
-    Harness mapping(93, simulator);
+    Harness mapping(CommandTestConfig(93, simulator, dir), simulator);
     for (int i = 0; i < kScans; ++i) mapped.push_back(mapping.Track(i).T);
     ASSERT_TRUE(mapping.Call(1, "save_map", (dir / "map").string()).ok);
     mapping.daemon.Stop();
   }
   // A second daemon starts mid-sequence, so its odometry frame is not the map frame.
   constexpr int kStart = 25, kSwitch = 28;
-  Harness h(94, simulator);
+  Harness h(CommandTestConfig(94, simulator, dir), simulator);
   for (int i = kStart; i < kSwitch; ++i) EXPECT_TRUE(h.Track(i).registered);
   const double frame_offset = Distance(h.client.poses.back().T, mapped[kSwitch - 1]);
   std::printf("odometry frame vs map frame before relocalize: %.3f m apart\n", frame_offset);
@@ -250,6 +256,137 @@ TEST_F(DaemonCommands, SigtermSavesTheMapOnShutdownCompletely) {
   const backend::MapData map = mapstore::LoadMap(dir / "map");
   EXPECT_GE(map.keyframes.size(), 1u);
   EXPECT_GT(map.global_points.size(), 0u);
+}
+
+// --- Who may command the daemon (dammloamd.commands) -------------------------------------------
+
+// The last Status the client holds, after waiting for one that counts `refused` refusals.
+ReceivedStatus StatusAfterRefusals(Harness& h, std::uint64_t refused) {
+  EXPECT_TRUE(h.client.WaitUntil([&] {
+    return !h.client.statuses.empty() && h.client.statuses.back().commands_refused >= refused;
+  }, milliseconds(10000))) << "no Status counting " << refused << " refused commands";
+  return h.client.statuses.empty() ? ReceivedStatus{} : h.client.statuses.back();
+}
+
+void ExpectRefused(const ReceivedReply& reply, const std::string& reason) {
+  EXPECT_FALSE(reply.ok) << reply.message;
+  EXPECT_TRUE(Contains(reply.message, "refused [" + reason + "]")) << reply.message;
+}
+
+TEST_F(DaemonCommands, EveryCommandIsRefusedWhileCommandsAreDisabled) {
+  const auto dir = TestDir("cmd-disabled");
+  const sim::Simulator simulator = SmallSimulator(4);
+  daemon::DaemonConfig config = CommandTestConfig(181, simulator, dir);
+  config.commands = {};  // the default: off
+  Harness h(config, simulator);
+  for (int i = 0; i < 4; ++i) h.Track(i);  // a map exists: only the switch stops the save
+
+  ExpectRefused(h.Call(1, "save_map", (dir / "map").string()), "disabled");
+  ExpectRefused(h.Call(2, "relocalize", (dir / "map").string()), "disabled");
+  ExpectRefused(h.Call(3, "fly_to_the_moon", ""), "disabled");
+  EXPECT_FALSE(fs::exists(dir / "map"));
+
+  const ReceivedStatus status = StatusAfterRefusals(h, 3);
+  EXPECT_EQ(status.commands_refused, 3u);
+  EXPECT_EQ(status.refused_by_reason, (std::map<std::string, std::uint64_t>{{"disabled", 3}}));
+  EXPECT_TRUE(h.client.WaitForError("refused [disabled]", milliseconds(10000)));
+  h.daemon.Stop();
+}
+
+TEST_F(DaemonCommands, PathsOutsideTheMapRootAreRefusedAndPathsInsideAreSaved) {
+  const auto dir = TestDir("cmd-root");
+  const fs::path root = dir / "maps";
+  fs::create_directories(root / "sub");
+  fs::create_directories(dir / "outside");
+  fs::create_directories(dir / "maps-evil");  // shares the root's spelling as a string prefix
+  fs::create_directory_symlink(dir / "outside", root / "escape");
+  fs::create_directory_symlink(root / "sub", root / "alias");  // a link that stays inside
+  fs::create_directory_symlink(dir / "nowhere", root / "dangling");
+  const sim::Simulator simulator = SmallSimulator(4);
+  Harness h(CommandTestConfig(182, simulator, root), simulator);
+  for (int i = 0; i < 4; ++i) h.Track(i);
+
+  const std::string outside = "path_outside_map_root";
+  ExpectRefused(h.Call(1, "save_map", "../outside/map"), outside);
+  ExpectRefused(h.Call(2, "save_map", (root / "sub" / ".." / ".." / "outside" / "m").string()),
+                outside);
+  ExpectRefused(h.Call(3, "save_map", (dir / "outside" / "map").string()), outside);
+  ExpectRefused(h.Call(4, "save_map", "escape/map"), outside);         // symlink out of the root
+  ExpectRefused(h.Call(5, "save_map", (root / "escape").string()), outside);
+  ExpectRefused(h.Call(6, "relocalize", "escape"), outside);
+  ExpectRefused(h.Call(7, "save_map", root.string() + "-evil/map"), outside);
+  ExpectRefused(h.Call(8, "save_map", root.string()), outside);         // the root itself
+  ExpectRefused(h.Call(9, "save_map", "dangling"), "bad_path");
+  ExpectRefused(h.Call(10, "save_map", ""), "bad_path");
+  EXPECT_TRUE(fs::is_empty(dir / "outside"));
+  EXPECT_TRUE(fs::is_empty(dir / "maps-evil"));
+  EXPECT_FALSE(fs::exists(dir / "nowhere"));
+
+  // Inside the root: a relative name, and a path through a link that stays inside.
+  ReceivedReply reply = h.Call(11, "save_map", "run1");
+  EXPECT_TRUE(reply.ok) << reply.message;
+  EXPECT_TRUE(Contains(reply.message, (root / "run1").string())) << reply.message;
+  EXPECT_GE(mapstore::LoadMap(root / "run1").keyframes.size(), 1u);
+  reply = h.Call(12, "save_map", (root / "alias" / "map").string());
+  EXPECT_TRUE(reply.ok) << reply.message;
+  EXPECT_GE(mapstore::LoadMap(root / "sub" / "map").keyframes.size(), 1u);
+
+  const ReceivedStatus status = StatusAfterRefusals(h, 10);
+  EXPECT_EQ(status.commands_refused, 10u);
+  EXPECT_EQ(status.refused_by_reason,
+            (std::map<std::string, std::uint64_t>{{outside, 8}, {"bad_path", 2}}));
+  h.daemon.Stop();
+}
+
+TEST_F(DaemonCommands, AWrongOrMissingTokenIsRefused) {
+  const auto dir = TestDir("cmd-token");
+  const sim::Simulator simulator = SmallSimulator(4);
+  daemon::DaemonConfig config = CommandTestConfig(183, simulator, dir);
+  config.commands.token = "s3cret-token";
+  Harness h(config, simulator);
+  for (int i = 0; i < 4; ++i) h.Track(i);
+
+  ExpectRefused(h.Call(1, "save_map", "map"), "wrong_token");
+  ExpectRefused(h.Call(2, "save_map", "map", "s3cret-tokeN"), "wrong_token");
+  ExpectRefused(h.Call(3, "save_map", "map", "s3cret-toke"), "wrong_token");   // a prefix
+  ExpectRefused(h.Call(4, "save_map", "map", "s3cret-token2"), "wrong_token");  // an extension
+  EXPECT_FALSE(fs::exists(dir / "map"));
+  const ReceivedReply reply = h.Call(5, "save_map", "map", "s3cret-token");
+  EXPECT_TRUE(reply.ok) << reply.message;
+  EXPECT_TRUE(fs::exists(dir / "map" / "map.json"));
+
+  const ReceivedStatus status = StatusAfterRefusals(h, 4);
+  EXPECT_EQ(status.commands_refused, 4u);
+  EXPECT_EQ(status.refused_by_reason, (std::map<std::string, std::uint64_t>{{"wrong_token", 4}}));
+  h.daemon.Stop();
+}
+
+TEST_F(DaemonCommands, ParticipantsMissingFromTheAllowListAreRefused) {
+  const auto dir = TestDir("cmd-allow");
+  const sim::Simulator simulator = SmallSimulator(4);
+  constexpr std::uint32_t kDomain = 184;
+  // The allowed commander exists before the daemon, so its GUID can go into the config.
+  CommandClient allowed(kDomain);
+  daemon::DaemonConfig config = CommandTestConfig(kDomain, simulator, dir);
+  config.commands.allowed_participants = {allowed.Guid()};
+  Harness h(config, simulator);  // h.commander is another participant: not on the list
+  ASSERT_NE(h.commander.Guid(), allowed.Guid());
+  ASSERT_TRUE(allowed.WaitForDaemon(milliseconds(10000)));
+  for (int i = 0; i < 4; ++i) h.Track(i);
+
+  const ReceivedReply refused = h.Call(1, "save_map", "map");
+  ExpectRefused(refused, "unknown_sender");
+  EXPECT_TRUE(Contains(refused.message, h.commander.Guid())) << refused.message;
+  EXPECT_FALSE(fs::exists(dir / "map"));
+  const auto reply = allowed.Call(2, "save_map", "map", kTimeout);
+  ASSERT_TRUE(reply);
+  EXPECT_TRUE(reply->ok) << reply->message;
+
+  const ReceivedStatus status = StatusAfterRefusals(h, 1);
+  EXPECT_EQ(status.commands_refused, 1u);
+  EXPECT_EQ(status.refused_by_reason,
+            (std::map<std::string, std::uint64_t>{{"unknown_sender", 1}}));
+  h.daemon.Stop();
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <vector>
 
+#include "services/dammloamd/command_gate.hpp"
 #include "services/dammloamd/daemon_config.hpp"
 #include "tests/system/sim_sequence.hpp"
 
@@ -63,6 +65,80 @@ TEST(DaemonConfig, SaveMapOnShutdownIsCheckedAtStartUp) {
   EXPECT_EQ(LoadError("dammloamd:\n  save_map_on_shutdown: " + (dir / "map").string() + "/\n"), "");
   EXPECT_NE(LoadError("dammloamd:\n  topics:\n    command_reply: \"\"\n")
                 .find("names must not be empty"), std::string::npos);
+}
+
+TEST(DaemonConfig, CommandsAreOffByDefaultAndAnEnabledSectionIsChecked) {
+  const CommandsConfig shipped =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml")
+          .daemon.commands;
+  EXPECT_FALSE(shipped.enabled) << "off by default";
+  EXPECT_TRUE(shipped.token.empty());
+  EXPECT_TRUE(shipped.allowed_participants.empty());
+  EXPECT_FALSE(CommandsConfig{}.enabled);
+
+  const auto dir = test::TestDir("config-commands");
+  const std::string root = dir.string();
+  EXPECT_EQ(LoadError("dammloamd:\n  commands:\n    enabled: true\n    map_root: " + root +
+                      "\n    token: abc\n    allowed_participants: [0110aBcD]\n"), "");
+  const FullConfig parsed = [&] {
+    std::ofstream(dir / "ok.yaml") << "dammloamd:\n  commands:\n    enabled: true\n"
+                                   << "    map_root: " << root << "\n    token: abc\n";
+    return LoadConfig(dir / "ok.yaml");
+  }();
+  EXPECT_TRUE(parsed.daemon.commands.enabled);
+  EXPECT_EQ(parsed.daemon.commands.map_root, dir);
+  EXPECT_EQ(parsed.daemon.commands.token, "abc");
+
+  const auto expect_error = [](const std::string& yaml, const std::string& text) {
+    const std::string error = LoadError(yaml);
+    EXPECT_NE(error.find(text), std::string::npos) << yaml << " -> " << error;
+  };
+  expect_error("dammloamd:\n  commands:\n    enable: true\n",
+               "'dammloamd.commands.enable' is not a known key");
+  expect_error("dammloamd:\n  commands:\n    enabled: true\n",
+               "'dammloamd.commands.map_root' must be set");
+  expect_error("dammloamd:\n  commands:\n    enabled: true\n    map_root: maps\n",
+               "must be an absolute path");
+  expect_error("dammloamd:\n  commands:\n    enabled: true\n    map_root: " + root + "/none\n",
+               "is not an existing directory");
+  expect_error("dammloamd:\n  commands:\n    allowed_participants: [not-hex]\n",
+               "'dammloamd.commands.allowed_participants' entries must be 1 to 32 hex digits");
+  expect_error("dammloamd:\n  commands:\n    token: [a, b]\n",
+               "'dammloamd.commands.token' has the wrong type");
+}
+
+TEST(CommandGate, TokensMatchOnlyWhenEqual) {
+  EXPECT_TRUE(TokenMatches("s3cret", "s3cret"));
+  EXPECT_FALSE(TokenMatches("", "s3cret"));
+  EXPECT_FALSE(TokenMatches("s3cre", "s3cret"));
+  EXPECT_FALSE(TokenMatches("s3cret!", "s3cret"));
+  EXPECT_FALSE(TokenMatches(std::string("s3cret\0", 7), "s3cret"));
+  EXPECT_FALSE(TokenMatches("S3cret", "s3cret"));
+}
+
+// The map root reached through a symlink (as /var/lib/... often is): both spellings work, and
+// the spellings of one directory ("run1/", "./run1") name the same place.
+TEST(CommandGate, PathsResolveInsideARootReachedThroughASymlink) {
+  namespace fs = std::filesystem;
+  const auto dir = test::TestDir("config-gate");
+  fs::create_directories(dir / "data" / "maps");
+  fs::create_directory_symlink(dir / "data" / "maps", dir / "maps-link");
+  CommandsConfig config;
+  config.enabled = true;
+  config.map_root = dir / "maps-link";
+  const CommandGate gate(config);
+  const fs::path real = fs::canonical(dir / "data" / "maps");
+  EXPECT_EQ(gate.map_root(), real);
+  for (const std::string& name : std::vector<std::string>{
+           "run1", "run1/", "./run1", (dir / "maps-link" / "run1").string(),
+           (dir / "data" / "maps" / "run1").string()}) {
+    const ResolvedDirectory resolved = gate.Resolve(name);
+    EXPECT_FALSE(resolved.refusal) << name << ": " << resolved.refusal->message;
+    EXPECT_EQ(resolved.path, real / "run1") << name;
+  }
+  EXPECT_EQ(gate.Resolve("a/b/c").path, real / "a" / "b" / "c");  // parents made by the save
+  EXPECT_EQ(gate.Resolve((dir / "data").string()).refusal->reason, kRefusedOutsideRoot);
+  EXPECT_EQ(gate.Resolve("/").refusal->reason, kRefusedOutsideRoot);
 }
 
 TEST(DaemonConfig, Ros2SectionDefaultsParseAndMistakesNameTheKey) {

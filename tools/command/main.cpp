@@ -36,6 +36,7 @@ struct Options {
   std::uint32_t domain = 0;
   double timeout = 30.0;  // a save_map of a large map or a relocalize takes seconds
   dds::TopicNames topics;
+  std::string token;  // dammloamd.commands.token; --token or DAMMLOAM_COMMAND_TOKEN
   bool allow_default_network = false;
 };
 
@@ -74,6 +75,7 @@ void Send(const dds::Writer<dammloam_msg_Command>& writer, std::uint64_t request
   msg.request_id = request_id;
   msg.name = const_cast<char*>(o.name.c_str());
   msg.argument = const_cast<char*>(o.argument.c_str());
+  msg.token = const_cast<char*>(o.token.c_str());
   writer.Write(msg);
 }
 
@@ -141,6 +143,10 @@ void AddOptions(CLI::App& app, Options& o) {
       ->check(CLI::PositiveNumber);
   app.add_option("--command-topic", o.topics.command, "Command topic");
   app.add_option("--reply-topic", o.topics.command_reply, "CommandReply topic");
+  app.add_option("--token", o.token,
+                 "the daemon's dammloamd.commands.token (default: $DAMMLOAM_COMMAND_TOKEN, "
+                 "which keeps it out of the process list)")
+      ->envname("DAMMLOAM_COMMAND_TOKEN");
   app.add_flag("--allow-default-network", o.allow_default_network,
                "run without CYCLONEDDS_URI (uses the default network interface)");
 }

@@ -42,18 +42,26 @@ std::string Stamp(const dammloam_msg_Time& t) {
   return fmt::format("{}.{:09d}", t.sec, t.nanosec);
 }
 
-nlohmann::json StatusJson(const dammloam_msg_Status& s) {
+nlohmann::json ReasonsJson(const dds_sequence_dammloam_msg_ReasonCount& counts) {
   nlohmann::json reasons = nlohmann::json::object();
-  for (std::uint32_t i = 0; i < s.rejected_by_reason._length; ++i) {
-    reasons[s.rejected_by_reason._buffer[i].reason] = s.rejected_by_reason._buffer[i].count;
+  for (std::uint32_t i = 0; i < counts._length; ++i) {
+    reasons[counts._buffer[i].reason] = counts._buffer[i].count;
   }
+  return reasons;
+}
+
+nlohmann::json StatusJson(const dammloam_msg_Status& s) {
+  const nlohmann::json reasons = ReasonsJson(s.rejected_by_reason);
   return {{"type", "status"}, {"stamp", Stamp(s.header.stamp)}, {"node", s.node},
           {"state", s.state}, {"received", s.scans_received}, {"processed", s.scans_processed},
           {"dropped", s.scans_dropped}, {"rejected", s.scans_rejected}, {"reasons", reasons},
           {"latency_median_ms", s.latency_median_ms}, {"latency_p95_ms", s.latency_p95_ms},
           {"latency_p99_ms", s.latency_p99_ms}, {"latency_max_ms", s.latency_max_ms},
           {"error_count", s.error_count}, {"last_error", s.last_error},
-          {"is_error_event", s.is_error_event}};
+          {"is_error_event", s.is_error_event}, {"commands_refused", s.commands_refused},
+          {"refused_by_reason", ReasonsJson(s.refused_by_reason)},
+          {"receive_errors", s.receive_errors}, {"publish_errors", s.publish_errors},
+          {"backend_errors", s.backend_errors}, {"loop_closure", s.loop_closure}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {
