@@ -50,6 +50,7 @@ Calibration ParseCalibration(const std::string& text, const std::string& source)
     throw DriverError(source + ": needs a 'lasers' list");
   }
   Calibration cal;
+  cal.source = source;
   const YAML::Node lasers = root["lasers"];
   cal.lasers.resize(lasers.size());
   std::vector<bool> seen(lasers.size(), false);

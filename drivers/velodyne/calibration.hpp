@@ -26,7 +26,10 @@ struct Laser {
 
 struct Calibration {
   std::vector<Laser> lasers;           // indexed by laser_id
-  double distance_resolution = 0.0;    // metres per count; 0 = use the model's
+  // Metres per count as the file states it (0 = not stated). The decoder uses the model's packet
+  // unit and reports a contradicting value: the unit is fixed by the packet format.
+  double distance_resolution = 0.0;
+  std::string source;                  // file name (or label) the calibration was read from
 };
 
 // Errors throw DriverError naming the file, the laser and the field.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -70,7 +71,16 @@ int BankOf(Model m, std::uint16_t flag) {
   }
 }
 
-double DefaultUnit(Model m) { return (m == Model::kVLP32C || m == Model::kVLS128) ? 0.004 : 0.002; }
+// Metres per distance count, fixed by each model's packet format (user manuals).
+double PacketUnit(Model m) { return (m == Model::kVLP32C || m == Model::kVLS128) ? 0.004 : 0.002; }
+
+std::string Metres(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g m", v);
+  return buf;
+}
+
+constexpr double kRadPerCentideg = M_PI / 18000.0;
 
 }  // namespace
 
@@ -82,7 +92,14 @@ Decoder::Decoder(DecoderConfig config, Calibration calibration)
                       std::string(Name(config_.model)) + " has " + std::to_string(n));
   }
   if (config_.rpm < 60.0 || config_.rpm > 1500.0) throw DriverError("rpm must be within [60, 1500]");
-  unit_m_ = cal_.distance_resolution > 0.0 ? cal_.distance_resolution : DefaultUnit(config_.model);
+  unit_m_ = PacketUnit(config_.model);
+  const double stated = cal_.distance_resolution;
+  if (stated > 0.0 && std::abs(stated - unit_m_) > 1e-9) {
+    diag_.Count("calibration_unit_ignored",
+                cal_.source + " says distance_resolution " + Metres(stated) + ", but " +
+                    std::string(Name(config_.model)) + " packets count distance in " + Metres(unit_m_) +
+                    "; using " + Metres(unit_m_));
+  }
 }
 
 SensorModel Decoder::sensor_model() const {
@@ -159,7 +176,8 @@ std::optional<Scan> Decoder::Push(std::span<const std::uint8_t> packet, double c
       scan_started_at_phase_ = true;                   // the scan this crossing opens
     }
     const bool second = dual && (b % 2 == 1);  // dual: blocks come in pairs with the same azimuth
-    AddBlock(block, FiringSlot(b, dual), bank, last_gap_, packet_time, second ? block - kBlockSize : nullptr);
+    AddBlock(block, FiringSlot(b, dual), bank, InterpolationGap(b, dual), packet_time,
+             second ? block - kBlockSize : nullptr);
   }
   return done;
 }
@@ -179,6 +197,24 @@ void Decoder::UpdateGapWithinPacket(const std::uint8_t* p, int b, std::uint16_t 
   if (next >= kBlocks) return;
   const double gap = (LoadLE<std::uint16_t>(p + static_cast<std::size_t>(next) * kBlockSize + 2) + 36000 - az) % 36000;
   if (gap > 0 && gap < 300) last_gap_ = gap;  // ignore jumps (sector edges, lost packets)
+}
+
+double Decoder::InterpolationGap(int block, bool dual) const {
+  if (config_.model != Model::kVLS128 || config_.vls128_azimuth == Vls128Azimuth::kFiringTime) return last_gap_;
+  // nebula takes the gap to the next block, which is the next sequence only for a sequence's
+  // last block, and none for the packet's last block; in dual packets the next pair of blocks
+  // is the same sequence (blocks 6, 7 look at padding there: not reproduced).
+  return (!dual && block % 4 == 3 && block < 8) ? last_gap_ : 0.0;
+}
+
+double Decoder::LaserAzimuth(double block_azimuth, double gap, double offset_us, const Laser& cal) const {
+  // The gap spans one firing period (block or sequence); the laser adds its share of it.
+  const double swept = gap * std::min(1.0, offset_us / TimingOf(config_.model).block_us);
+  if (config_.model == Model::kVLS128 && config_.vls128_azimuth == Vls128Azimuth::kNebula) {
+    const double cd = std::round(block_azimuth + swept - cal.rot_correction / kRadPerCentideg);
+    return std::fmod(cd + 36000.0, 36000.0) * kRadPerCentideg;
+  }
+  return (block_azimuth + swept) * kRadPerCentideg - cal.rot_correction;
 }
 
 void Decoder::GapFromPreviousPacket(std::uint16_t az, double packet_time) {
@@ -237,8 +273,7 @@ void Decoder::AddBlock(const std::uint8_t* block, int slot, int bank, double gap
       diag_.Count("out_of_range_returns");
       continue;
     }
-    const double az_cd = az_block + gap * std::min(1.0, offset_us / timing.block_us);
-    const double a = az_cd * (M_PI / 18000.0) - cal.rot_correction;
+    const double a = LaserAzimuth(az_block, gap, offset_us, cal);
     const double cos_v = std::cos(cal.vert_correction);
     const double sin_v = std::sin(cal.vert_correction);
     const double xy = distance * cos_v - cal.vert_offset_correction * sin_v;

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
+#include <string>
 
 #include "drivers/net/pcap_reader.hpp"
 #include "drivers/velodyne/calibration.hpp"
@@ -97,6 +99,19 @@ TEST(VelodyneCalibration, ErrorsNameTheProblem) {
                DriverError);
 }
 
+// The packet format fixes the distance unit: a calibration that contradicts it is reported with
+// its file name and both values, and the model's unit is used.
+TEST(VelodyneCalibration, ContradictingDistanceUnitIsReportedAndIgnored) {
+  std::string yaml = testing::ReadText(Hdl32eCalibration());
+  yaml.erase(yaml.find("distance_resolution:"));  // the file's own (last) line, replaced below
+  const Decoder agreeing(DecoderConfig{.model = Model::kHDL32E}, ParseCalibration(yaml + "distance_resolution: 0.002\n", "hdl.yaml"));
+  EXPECT_EQ(agreeing.diagnostics().Get("calibration_unit_ignored"), 0u);
+  const Decoder contradicting(DecoderConfig{.model = Model::kHDL32E}, ParseCalibration(yaml + "distance_resolution: 0.004\n", "hdl.yaml"));
+  ASSERT_EQ(contradicting.diagnostics().Get("calibration_unit_ignored"), 1u);
+  const std::string& m = contradicting.diagnostics().messages().front();
+  for (const char* part : {"hdl.yaml", "0.004 m", "0.002 m"}) EXPECT_NE(m.find(part), std::string::npos) << m;
+}
+
 TEST(VelodyneDecoder, Vlp16DualReturnMatchesNebulaPcd) {
   const auto pcap = NebulaDir() / "vlp16" / "vlp16_packets_from_rosbag2.pcap";
   DAMMLOAM_REQUIRE_DATA(pcap);
@@ -129,6 +144,70 @@ TEST(VelodyneDecoder, Vlp32cMatchesNebulaPcd) {
   EXPECT_LT(st.median, 0.01);
   EXPECT_GT(st.fraction_within, 0.95);
   EXPECT_NEAR(static_cast<double>(points), 26216.0, 0.1 * 26216.0);
+}
+
+std::filesystem::path Vls128Pcap() { return NebulaDir() / "vls128" / "vls128_packets_from_rosbag2.pcap"; }
+
+// The real VLS-128 street capture (strongest return, laser 82 dead), decoded with nebula's
+// calibration file as shipped: it says 7 mm per count where the packet unit is 4 mm.
+Decoded DecodeVls128(Vls128Azimuth azimuth) {
+  const DecoderConfig config{.model = Model::kVLS128, .min_range = 0.3, .max_range = 300.0, .scan_phase_deg = 0.0,
+                             .vls128_azimuth = azimuth};
+  return DecodeCapture(Vls128Pcap(), config, LoadCalibration(NebulaDir() / "calibration" / "VLS128.yaml"));
+}
+
+std::size_t RingCount(const Scan& scan) { return std::set<int>(scan.rings.begin(), scan.rings.end()).size(); }
+
+TEST(VelodyneDecoder, Vls128WithNebulasAzimuthsMatchesNebulaPcd) {
+  DAMMLOAM_REQUIRE_DATA(Vls128Pcap());
+  const Decoded d = DecodeVls128(Vls128Azimuth::kNebula);
+  ASSERT_GE(d.scans.size(), 2u) << d.diag.Summary();
+  EXPECT_EQ(d.diag.Get("product_id_mismatch") + d.diag.Get("bad_blocks"), 0u) << d.diag.Summary();
+  // The file's 7 mm is reported and the packet's 4 mm used.
+  ASSERT_EQ(d.diag.Get("calibration_unit_ignored"), 1u);
+  const std::string& warning = d.diag.messages().front();
+  for (const char* part : {"VLS128.yaml", "0.007 m", "0.004 m"}) {
+    EXPECT_NE(warning.find(part), std::string::npos) << warning;
+  }
+  const auto expected = testing::ReadPcdXyz(NebulaDir() / "vls128" / "1585897255376374245.pcd");
+  ASSERT_EQ(expected.size(), 208680u);
+  std::size_t points = 0;
+  const auto st = BestMatch(d.scans, expected, &points);
+  EXPECT_LT(st.median, 0.003);
+  EXPECT_GE(st.fraction_within, 0.90);
+  EXPECT_NEAR(static_cast<double>(points), 208680.0, 0.02 * 208680.0);
+  // Laser 82 never returns: 127 rings carry points, in every scan, and no garbage on its ring.
+  const int dead_ring = LoadCalibration(NebulaDir() / "calibration" / "VLS128.yaml").lasers[82].ring;
+  for (const auto& s : d.scans) {
+    EXPECT_EQ(RingCount(s), 127u);
+    EXPECT_EQ(std::count(s.rings.begin(), s.rings.end(), dead_ring), 0);
+    ExpectWellFormed(s, 0.1, 128);
+  }
+}
+
+// With the manual's firing-time azimuths (the default) every point is nebula's point turned about
+// z by the rotation until its laser fired: at most 0.8 of one sequence's ~0.2 deg, never backwards
+// (beyond nebula's rounding to 0.01 deg). Range and height are the same.
+TEST(VelodyneDecoder, Vls128FiringTimeAzimuthsDifferFromNebulasOnlyByTheSweep) {
+  DAMMLOAM_REQUIRE_DATA(Vls128Pcap());
+  const Decoded manual = DecodeVls128(Vls128Azimuth::kFiringTime);
+  const Decoded nebula = DecodeVls128(Vls128Azimuth::kNebula);
+  ASSERT_EQ(manual.scans.size(), nebula.scans.size());
+  for (std::size_t k = 0; k < manual.scans.size(); ++k) {
+    const Scan& a = manual.scans[k];
+    const Scan& b = nebula.scans[k];
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(RingCount(a), 127u);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      ASSERT_NEAR(a.points[i].norm(), b.points[i].norm(), 1e-6) << "point " << i;
+      ASSERT_NEAR(a.points[i].z(), b.points[i].z(), 1e-6) << "point " << i;
+      const double turn_deg = std::remainder(std::atan2(-a.points[i].y(), a.points[i].x()) -
+                                                 std::atan2(-b.points[i].y(), b.points[i].x()),
+                                             2.0 * M_PI) * 180.0 / M_PI;
+      ASSERT_GT(turn_deg, -0.0051) << "point " << i;
+      ASSERT_LT(turn_deg, 0.8 * 0.21 + 0.0051) << "point " << i;
+    }
+  }
 }
 
 TEST(VelodyneDecoder, Hdl32eDrivingCaptureSplitsIntoRevolutions) {

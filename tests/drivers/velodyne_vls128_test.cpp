@@ -1,5 +1,6 @@
 // VLS-128 (Alpha Prime) decoding, on packets built byte by byte from the published packet format
-// (no VLS-128 recording exists in the shared data). Format, per the Velodyne VLS-128 user manual:
+// (the real strongest-return capture is checked in velodyne_test.cpp; there is no real dual-return
+// one). Format, per the Velodyne VLS-128 user manual:
 //   1206-byte payload = 12 data blocks of 100 bytes, a 4-byte timestamp (us past the hour, LE)
 //   and 2 factory bytes (return mode: 0x37 strongest, 0x38 last, 0x39 dual; product id 0xA1).
 //   Block = flag bytes 0xFF then 0xEE/0xDD/0xCC/0xBB (laser bank 0..3, lasers bank*32..+31),
