@@ -16,6 +16,7 @@ PACKAGES=(
   libpcap-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   procps
+  python3  # tools/check-floors.sh (standard library only)
   libssl-dev
 )
 

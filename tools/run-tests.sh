@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds and runs every test: the release build, then the core and tool
-# suites again under ASan+UBSan, then the threaded pipeline suites under TSan.
+# Installs dependencies, checks the include floors, builds and runs every test: the release
+# build, then the core and tool suites again under ASan+UBSan, then the threaded pipeline suites
+# under TSan.
 # This is the README's test command and what .ci/run calls.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}
 
 bash deploy/install-deps.sh
+
+# Include floors (core <- drivers, io <- services <- tools): no include or link runs up a floor.
+echo "== include floors"
+bash tools/check-floors.sh
 
 echo "== release build + all tests"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=ON >/dev/null
