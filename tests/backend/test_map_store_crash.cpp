@@ -21,6 +21,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "core/backend/scan_context.hpp"
 #include "core/geometry/se3.hpp"
@@ -157,16 +158,42 @@ std::uint64_t EnvOr(const char* name, std::uint64_t fallback) {
   }
 }
 
-std::size_t DrainCount(int fd) {
-  std::size_t count = 0;
-  char buffer[256];
-  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) != 0;) {
+// A forked child running `body(write_fd)`, which must not return; the parent keeps the read end
+// of the pipe to hear from it.
+struct Child {
+  pid_t pid;
+  int read_fd;
+};
+template <typename Body>
+Child ForkWithPipe(Body body) {
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    ::close(pipe_fds[0]);
+    body(pipe_fds[1]);
+    ::_exit(0);
+  }
+  ::close(pipe_fds[1]);
+  return {pid, pipe_fds[0]};
+}
+
+// Everything the child wrote (read to end of file, then closed) and its wait status.
+std::pair<std::string, int> CollectChild(const Child& child) {
+  std::string bytes;
+  char buffer[512];
+  for (ssize_t n; (n = ::read(child.read_fd, buffer, sizeof buffer)) != 0;) {
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) ADD_FAILURE() << "read from the child: " << std::strerror(errno);
     if (n < 0) break;
-    count += static_cast<std::size_t>(n);
+    bytes.append(buffer, static_cast<std::size_t>(n));
   }
-  return count;
+  ::close(child.read_fd);
+  int status = 0;
+  while (::waitpid(child.pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return {bytes, status};
 }
 
 struct KillOutcome {
@@ -176,23 +203,12 @@ struct KillOutcome {
 
 // Forks a saver, SIGKILLs it after `delay`, and reaps it.
 KillOutcome RunAndKill(const fs::path& dir, std::uint64_t first, std::chrono::microseconds delay) {
-  int pipe_fds[2];
-  if (::pipe(pipe_fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  const pid_t child = ::fork();
-  if (child < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  if (child == 0) {
-    ::close(pipe_fds[0]);
-    SaveForever(dir, first, pipe_fds[1]);
-  }
-  ::close(pipe_fds[1]);
+  const Child child = ForkWithPipe([&](int done_fd) { SaveForever(dir, first, done_fd); });
   std::this_thread::sleep_for(delay);
-  ::kill(child, SIGKILL);
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
+  ::kill(child.pid, SIGKILL);
+  const auto [bytes, status] = CollectChild(child);
   KillOutcome outcome;
-  outcome.completed_saves = DrainCount(pipe_fds[0]);
-  ::close(pipe_fds[0]);
+  outcome.completed_saves = bytes.size();
   outcome.killed = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
   return outcome;
 }
@@ -279,32 +295,20 @@ constexpr int kSetupUnavailable = 5;  // the child could not set up the conditio
 // the exit code (0: the state left behind is right).
 template <typename Save, typename AfterError>
 ChildReport SaveInChild(Save save, AfterError after_error) {
-  int pipe_fds[2];
-  if (::pipe(pipe_fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  const pid_t child = ::fork();
-  if (child < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  if (child == 0) {
-    ::close(pipe_fds[0]);
+  const Child child = ForkWithPipe([&](int message_fd) {
     try {
       save();
     } catch (const io::IoError& e) {
       const std::string message = e.what();
-      const bool sent = ::write(pipe_fds[1], message.data(), message.size()) ==
+      const bool sent = ::write(message_fd, message.data(), message.size()) ==
                         static_cast<ssize_t>(message.size());
       ::_exit(sent ? after_error() : 2);
     } catch (...) {
       ::_exit(3);
     }
     ::_exit(kNoIoError);
-  }
-  ::close(pipe_fds[1]);
-  std::string message;
-  char buffer[512];
-  for (ssize_t n; (n = ::read(pipe_fds[0], buffer, sizeof buffer)) > 0;) message.append(buffer, n);
-  ::close(pipe_fds[0]);
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
+  });
+  const auto [message, status] = CollectChild(child);
   ChildReport report;
   report.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   if (!message.empty()) report.error = message;
