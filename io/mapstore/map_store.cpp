@@ -1,14 +1,11 @@
 #include "io/mapstore/map_store.hpp"
 
-#include <unistd.h>
-
-#include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <random>
 
-#include "io/pcd/labelled_pcd.hpp"
 #include "io/mapstore/binary_io.hpp"
+#include "io/mapstore/durable_dir.hpp"
+#include "io/pcd/labelled_pcd.hpp"
 
 namespace dammloam::mapstore {
 
@@ -168,13 +165,6 @@ void DecodeKeyframes(const std::vector<std::uint8_t>& bytes, const std::string& 
 
 // --- files ------------------------------------------------------------------------------------
 
-void WriteFile(const fs::path& file, const void* data, std::size_t size) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-  out.flush();
-  if (!out) throw io::IoError(file.string() + ": cannot write");
-}
-
 std::vector<std::uint8_t> ReadFile(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw io::IoError(file.string() + ": missing or unreadable");
@@ -186,16 +176,11 @@ json ScanContextToJson(const backend::ScanContextConfig& c) {
           {"sensor_height", c.sensor_height}};
 }
 
-fs::path UniqueSibling(const fs::path& dir, const char* tag) {
-  std::random_device device;
-  const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  return dir.parent_path() / (dir.filename().string() + tag + std::to_string(::getpid()) + "-" +
-                              std::to_string(stamp ^ device()));
-}
-
+// Every file is on disk (fsync) when this returns; map.json, which the loader checks the others
+// against, is written last.
 void WriteMapInto(const fs::path& dir, const MapData& map) {
   const std::vector<std::uint8_t> keyframes = EncodeKeyframes(map);
-  WriteFile(dir / "keyframes.bin", keyframes.data(), keyframes.size());
+  WriteFileDurably(dir / "keyframes.bin", keyframes.data(), keyframes.size());
 
   if (!map.global_labels.empty() && map.global_labels.size() != map.global_points.size()) {
     throw io::IoError(dir.string() + ": global map has " + std::to_string(map.global_labels.size()) +
@@ -205,6 +190,7 @@ void WriteMapInto(const fs::path& dir, const MapData& map) {
   cloud.points = map.global_points;
   cloud.labels = map.global_labels;
   io::WriteLabelledPcd(dir / "global_map.pcd", cloud);
+  SyncPath(dir / "global_map.pcd");
 
   const json meta = {{"format", kFormatName},
                      {"version", kMapVersion},
@@ -215,7 +201,26 @@ void WriteMapInto(const fs::path& dir, const MapData& map) {
                      {"keyframes_bytes", keyframes.size()},
                      {"keyframes_fnv1a", Fnv1a64(keyframes)}};
   const std::string text = meta.dump(2) + "\n";
-  WriteFile(dir / "map.json", text.data(), text.size());
+  WriteFileDurably(dir / "map.json", text.data(), text.size());
+}
+
+// Absolute, without a trailing slash: the staging directory is a sibling named after it.
+fs::path TargetPath(const fs::path& dir) {
+  fs::path target = fs::absolute(dir).lexically_normal();
+  if (target.filename().empty()) target = target.parent_path();
+  return target;
+}
+
+// An existing `dir` is replaced only if it is a map directory (or empty): never a user's folder.
+void CheckReplaceable(const fs::path& dir) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(dir, ec);
+  if (!fs::exists(status)) return;
+  const bool is_map = fs::is_directory(status) &&
+                      (fs::exists(dir / "map.json", ec) || fs::is_empty(dir, ec));
+  if (!is_map) {
+    throw io::IoError(dir.string() + ": exists and is not a map directory; refusing to replace it");
+  }
 }
 
 template <typename T>
@@ -231,45 +236,33 @@ T Field(const json& meta, const char* name, const fs::path& file) {
 }  // namespace
 
 void SaveMap(const fs::path& dir_in, const MapData& map) {
-  const fs::path dir = fs::absolute(dir_in).lexically_normal();
-  std::error_code ec;
-  const bool exists = fs::exists(dir, ec);
-  if (exists && (!fs::is_directory(dir) || (!fs::is_empty(dir) && !fs::exists(dir / "map.json")))) {
-    throw io::IoError(dir.string() + ": exists and is not a map directory; refusing to replace it");
-  }
-  if (!fs::exists(dir.parent_path())) fs::create_directories(dir.parent_path(), ec);
-  const fs::path staging = UniqueSibling(dir, ".tmp-");
-  if (!fs::create_directory(staging, ec)) {
-    throw io::IoError(staging.string() + ": cannot create staging directory: " + ec.message());
-  }
+  const fs::path dir = TargetPath(dir_in);
+  CheckReplaceable(dir);
+  CreateParentsDurably(dir);
+  RemoveInterruptedSaves(dir);
+  const fs::path staging = MakeStagingSibling(dir);
   try {
     WriteMapInto(staging, map);
+    SyncPath(staging);
+    PublishStaging(staging, dir);
   } catch (...) {
-    fs::remove_all(staging, ec);
+    // `staging` holds the unfinished new map, or the old one if only the final parent sync
+    // failed: either way `dir` holds a complete map.
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
     throw;
   }
-  // Swap into place: the old map is moved aside first and only deleted after the rename.
-  fs::path old;
-  if (exists) {
-    old = UniqueSibling(dir, ".old-");
-    fs::rename(dir, old, ec);
-    if (ec) {
-      fs::remove_all(staging, ec);
-      throw io::IoError(dir.string() + ": cannot move the existing map aside");
-    }
-  }
-  fs::rename(staging, dir, ec);
-  if (ec) {
-    std::error_code ignored;
-    if (!old.empty()) fs::rename(old, dir, ignored);
-    fs::remove_all(staging, ignored);
-    throw io::IoError(dir.string() + ": cannot rename the new map into place: " + ec.message());
-  }
-  if (!old.empty()) fs::remove_all(old, ec);
+  // The previous map now sits under the staging name. The save has succeeded, so a failure to
+  // delete it is not reported: a later load or save in another process removes the left-over.
+  std::error_code ignored;
+  fs::remove_all(staging, ignored);
 }
 
 MapData LoadMap(const fs::path& dir) {
-  if (!fs::is_directory(dir)) throw io::IoError(dir.string() + ": not a directory");
+  std::error_code ec;
+  // `dir` itself is always a complete map; only siblings of killed saves are removed.
+  RemoveInterruptedSaves(TargetPath(dir));
+  if (!fs::is_directory(dir, ec)) throw io::IoError(dir.string() + ": not a directory");
   const fs::path meta_file = dir / "map.json";
   const std::vector<std::uint8_t> meta_bytes = ReadFile(meta_file);
   const json meta = json::parse(meta_bytes.begin(), meta_bytes.end(), nullptr, false);

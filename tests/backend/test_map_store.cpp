@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -7,6 +6,7 @@
 
 #include "core/backend/scan_context.hpp"
 #include "io/mapstore/map_store.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace dammloam::mapstore {
 namespace {
@@ -40,18 +40,6 @@ backend::MapData SmallMap() {
   return map;
 }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("dammloam-mapstore-" + std::to_string(::getpid()) +
-            "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
-
 std::string LoadError(const fs::path& dir) {
   try {
     LoadMap(dir);
@@ -62,10 +50,10 @@ std::string LoadError(const fs::path& dir) {
 }
 
 TEST(MapStore, RoundTrip) {
-  TempDir tmp;
+  const test::TempDir tmp;
   const backend::MapData map = SmallMap();
-  SaveMap(tmp.path / "map", map);
-  const backend::MapData loaded = LoadMap(tmp.path / "map");
+  SaveMap(tmp / "map", map);
+  const backend::MapData loaded = LoadMap(tmp / "map");
   ASSERT_EQ(loaded.keyframes.size(), map.keyframes.size());
   for (std::size_t k = 0; k < map.keyframes.size(); ++k) {
     const auto& a = map.keyframes[k];
@@ -88,16 +76,16 @@ TEST(MapStore, RoundTrip) {
   backend::MapData smaller = map;
   smaller.keyframes.pop_back();
   smaller.loops.clear();
-  SaveMap(tmp.path / "map", smaller);
-  EXPECT_EQ(LoadMap(tmp.path / "map").keyframes.size(), 2u);
-  for (const auto& entry : fs::directory_iterator(tmp.path)) {
+  SaveMap(tmp / "map", smaller);
+  EXPECT_EQ(LoadMap(tmp / "map").keyframes.size(), 2u);
+  for (const auto& entry : fs::directory_iterator(tmp.path())) {
     EXPECT_EQ(entry.path().filename(), "map") << "left-over staging directory";
   }
 }
 
 TEST(MapStore, CorruptTruncatedAndOtherVersionGiveClearErrors) {
-  TempDir tmp;
-  const fs::path dir = tmp.path / "map";
+  const test::TempDir tmp;
+  const fs::path dir = tmp / "map";
   SaveMap(dir, SmallMap());
   const fs::path kf = dir / "keyframes.bin";
   const auto original_size = fs::file_size(kf);
@@ -127,12 +115,12 @@ TEST(MapStore, CorruptTruncatedAndOtherVersionGiveClearErrors) {
 
   fs::remove(dir / "map.json");
   EXPECT_NE(LoadError(dir).find("missing"), std::string::npos) << LoadError(dir);
-  EXPECT_NE(LoadError(tmp.path / "nowhere").find("not a directory"), std::string::npos);
+  EXPECT_NE(LoadError(tmp / "nowhere").find("not a directory"), std::string::npos);
 }
 
 TEST(MapStore, FailedSaveOverwritesNothing) {
-  TempDir tmp;
-  const fs::path dir = tmp.path / "map";
+  const test::TempDir tmp;
+  const fs::path dir = tmp / "map";
   SaveMap(dir, SmallMap());
   const auto before = fs::file_size(dir / "keyframes.bin");
   backend::MapData bad = SmallMap();
@@ -143,7 +131,7 @@ TEST(MapStore, FailedSaveOverwritesNothing) {
   EXPECT_EQ(LoadMap(dir).keyframes.size(), 3u);
 
   // A directory that is not a map is never replaced.
-  const fs::path other = tmp.path / "photos";
+  const fs::path other = tmp / "photos";
   fs::create_directories(other);
   std::ofstream(other / "holiday.jpg") << "precious";
   try {
@@ -154,7 +142,7 @@ TEST(MapStore, FailedSaveOverwritesNothing) {
   }
   EXPECT_TRUE(fs::exists(other / "holiday.jpg"));
   std::size_t entries = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(tmp.path)) ++entries;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(tmp.path())) ++entries;
   EXPECT_EQ(entries, 2u);  // map/ and photos/, no staging left-overs
 }
 

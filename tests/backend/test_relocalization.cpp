@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include "core/backend/loop_closing_backend.hpp"
 #include "tests/backend/sim_run.hpp"
 #include "io/mapstore/map_store.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace dammloam::backend {
 namespace {
@@ -34,12 +34,9 @@ TEST(Relocalization, TwentyRandomPosesInASavedMap) {
   for (const auto& r : run.odometry) backend.AddScan(r);
   backend.Process();
 
-  const fs::path dir = fs::temp_directory_path() /
-                       ("dammloam-reloc-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  mapstore::SaveMap(dir, backend.ExportMap());
-  const MapData map = mapstore::LoadMap(dir);
-  fs::remove_all(dir);
+  const test::TempDir tmp;
+  mapstore::SaveMap(tmp / "map", backend.ExportMap());
+  const MapData map = mapstore::LoadMap(tmp / "map");
 
   Localizer localizer(map);
   std::mt19937 rng(42);

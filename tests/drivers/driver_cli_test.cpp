@@ -16,6 +16,7 @@
 #include "drivers/ouster/packet_decoder.hpp"
 #include "test_data.hpp"
 #include "io/sequence_io.hpp"
+#include "tests/support/temp_dir.hpp"
 
 extern char** environ;
 
@@ -30,14 +31,6 @@ fs::path OusterDir() { return DataDir() / "ouster_sdk_pcaps"; }
 fs::path Lbn3Pcap() { return OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap"; }
 fs::path Lbn3Json() { return OusterDir() / "OS-1-128_v2.3.0_1024x10.json"; }
 
-// A fresh directory per test (tests run in parallel under ctest -j).
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("dammloam_drivers_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // Runs the driver, returns its exit code; stdout+stderr go to `log`.
 int RunDriver(const std::vector<std::string>& args, const fs::path& log) {
   std::string cmd = kDriver.string();
@@ -51,7 +44,7 @@ std::string ReadBytes(const fs::path& p) { return testing::ReadText(p); }
 
 TEST(DriverCli, PcapConversionWritesSequenceAndRangeDump) {
   DAMMLOAM_REQUIRE_DATA(Lbn3Pcap());
-  const fs::path dir = TempDir("convert");
+  const test::TempDir dir("drivers-convert");
   const int rc = RunDriver({"ouster", "--metadata", Lbn3Json().string(), "--pcap", Lbn3Pcap().string(),
                             "--to-sequence", (dir / "seq").string(), "--dump-range", (dir / "range.bin").string()},
                            dir / "log.txt");
@@ -86,7 +79,6 @@ TEST(DriverCli, PcapConversionWritesSequenceAndRangeDump) {
     EXPECT_TRUE(s.has_times());
     EXPECT_TRUE(s.has_rings());
   }
-  fs::remove_all(dir);
 }
 
 // Port of a UDP socket nobody holds right now (the kernel picks it).
@@ -135,7 +127,7 @@ int RunLiveDriver(std::vector<std::string> args, std::uint16_t port, const fs::p
 
 TEST(DriverCli, OusterLiveModeOverLoopbackMatchesPcapMode) {
   DAMMLOAM_REQUIRE_DATA(Lbn3Pcap());
-  const fs::path dir = TempDir("live");
+  const test::TempDir dir("drivers-live");
   const std::uint16_t port = FreeUdpPort();
   EXPECT_EQ(RunLiveDriver({"ouster", "--metadata", Lbn3Json().string(), "--udp-port", std::to_string(port), "--bind",
                            "127.0.0.1", "--dump-range", (dir / "live.bin").string(), "--to-sequence",
@@ -151,14 +143,13 @@ TEST(DriverCli, OusterLiveModeOverLoopbackMatchesPcapMode) {
   EXPECT_EQ(live.size(), 3u * 128u * 1024u * 4u);
   EXPECT_TRUE(live == ReadBytes(dir / "pcap.bin"));
   EXPECT_EQ(io::SequenceReader::Open(dir / "seq").size(), 3u);
-  fs::remove_all(dir);
 }
 
 TEST(DriverCli, VelodyneLiveModeOverLoopbackMatchesPcapMode) {
   const fs::path neb = DataDir() / "velodyne_nebula_rosbag2";
   const fs::path pcap = neb / "vlp16" / "vlp16_packets_from_rosbag2.pcap";
   DAMMLOAM_REQUIRE_DATA(pcap);
-  const fs::path dir = TempDir("vlive");
+  const test::TempDir dir("drivers-vlive");
   const std::vector<std::string> common = {"velodyne", "--model", "vlp16", "--calibration",
                                            (neb / "calibration" / "VLP16.yaml").string()};
   auto args = common;
@@ -184,11 +175,10 @@ TEST(DriverCli, VelodyneLiveModeOverLoopbackMatchesPcapMode) {
     ASSERT_EQ(a.size(), b.size());
     EXPECT_TRUE(a.points == b.points);  // same packets, same geometry
   }
-  fs::remove_all(dir);
 }
 
 TEST(DriverCli, BadInputGivesClearErrors) {
-  const fs::path dir = TempDir("bad");
+  const test::TempDir dir("drivers-bad");
   {
     std::ofstream(dir / "broken.json") << "{\"beam_altitude_angles\": [1, 2]}";
     EXPECT_EQ(RunDriver({"ouster", "--metadata", (dir / "broken.json").string(), "--udp-port", "1"}, dir / "log1.txt"), 1);
@@ -216,7 +206,6 @@ TEST(DriverCli, BadInputGivesClearErrors) {
       EXPECT_NE(log.find("partial_frames"), std::string::npos) << log;
     }
   }
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "drivers/net/link_parser.hpp"
 #include "drivers/net/pcap_reader.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "test_data.hpp"
 
 namespace dammloam::drivers {
@@ -137,7 +138,8 @@ TEST(LinkParser, RejectsDamagedAndForeignFrames) {
 // A classic pcap file written by hand: Linux SLL link type, one good record, one record whose
 // capture was cut short (caplen < len), and one fragmented datagram.
 TEST(PcapReader, ReadsSllCaptureWithTruncatedRecordAndFragments) {
-  const auto file = std::filesystem::temp_directory_path() / ("dammloam_net_" + std::to_string(::getpid()) + ".pcap");
+  const test::TempDir tmp;
+  const auto file = tmp / "sll.pcap";
   std::ofstream out(file, std::ios::binary);
   auto u32 = [&](std::uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
   auto u16 = [&](std::uint16_t v) { out.write(reinterpret_cast<const char*>(&v), 2); };
@@ -172,12 +174,12 @@ TEST(PcapReader, ReadsSllCaptureWithTruncatedRecordAndFragments) {
   EXPECT_FALSE(reader.Next(d));
   EXPECT_EQ(reader.diagnostics().Get("truncated_records"), 1u);
   EXPECT_EQ(reader.diagnostics().Get("other_ports"), 1u);
-  std::filesystem::remove(file);
 }
 
 TEST(PcapReader, MissingOrGarbageFileGivesClearError) {
   EXPECT_THROW(PcapReader("/nonexistent/capture.pcap"), DriverError);
-  const auto file = std::filesystem::temp_directory_path() / ("dammloam_garbage_" + std::to_string(::getpid()) + ".pcap");
+  const test::TempDir tmp;
+  const auto file = tmp / "garbage.pcap";
   std::ofstream(file) << "this is not a capture";
   try {
     PcapReader reader(file);
@@ -185,7 +187,6 @@ TEST(PcapReader, MissingOrGarbageFileGivesClearError) {
   } catch (const DriverError& e) {
     EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
   }
-  std::filesystem::remove(file);
 }
 
 TEST(PcapReader, RealCapturesCountLidarAndOtherPackets) {

@@ -13,6 +13,7 @@
 
 #include "io/sequence_io.hpp"
 #include "io/tum.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/system/child_process.hpp"
 
 namespace dammloam::test {
@@ -32,14 +33,6 @@ void UseLoopbackDds() {
                              "/deploy/cyclonedds-loopback.xml";
     setenv("CYCLONEDDS_URI", file.c_str(), 1);
   }
-}
-
-fs::path TestDir(const std::string& name) {
-  const auto dir =
-      fs::temp_directory_path() / ("dammloam-interop-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
 }
 
 // ChildProcess starts tools from build/bin; the client lives in build/tests.
@@ -159,7 +152,8 @@ class FastDdsInterop : public ::testing::Test {
 };
 
 TEST_F(FastDdsInterop, NativeTypesFastDdsClientMatchesCycloneRun) {
-  const fs::path dir = TestDir("native");
+  const test::TempDir tmp("interop-native");
+  const fs::path& dir = tmp.path();
   const fs::path seq = Simulate(dir);
   ASSERT_FALSE(HasFailure());
   const auto cyclone = CycloneRun(141, seq, dir);
@@ -192,7 +186,8 @@ void WriteNanosecondTimeSequence(const fs::path& in, const fs::path& out) {
 }
 
 TEST_F(FastDdsInterop, Ros2TypesFastDdsClientMatchesCycloneRun) {
-  const fs::path dir = TestDir("ros2");
+  const test::TempDir tmp("interop-ros2");
+  const fs::path& dir = tmp.path();
   {
     // dammloamd --ros2 comes with the daemon's ROS 2 mode; skip until the daemon has it.
     ChildProcess probe("dammloamd", {"--ros2", "--check-config"}, dir / "probe.log");

@@ -26,13 +26,4 @@ inline void WriteSequence(const sim::Simulator& simulator, int num_scans,
   for (int i = 0; i < num_scans; ++i) writer.Write(simulator.SimulateScan(i));
 }
 
-// A fresh empty directory for one test.
-inline std::filesystem::path TestDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("dammloam-system-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 }  // namespace dammloam::test

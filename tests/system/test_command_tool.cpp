@@ -13,6 +13,7 @@
 
 #include "tests/system/child_process.hpp"
 #include "tests/system/dds_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 #include "io/mapstore/map_store.hpp"
 
@@ -96,9 +97,9 @@ bool Contains(const std::string& text, const std::string& part) {
 }
 
 TEST_F(CommandTool, SaveMapExitsZeroAndTheMapStoreLoadsTheDirectory) {
-  const auto dir = TestDir("tool-save");
-  WriteShortSequence(dir);
-  const TrackingDaemon daemon(101, dir);
+  const test::TempDir dir("system-tool-save");
+  WriteShortSequence(dir.path());
+  const TrackingDaemon daemon(101, dir.path());
   const CommandRun run = daemon.Command({"save_map", (dir / "map").string()}, dir / "command.log");
   ASSERT_TRUE(run.code) << "dammloam-command still running\n" << run.output;
   EXPECT_EQ(*run.code, 0) << run.output << daemon.Log();
@@ -112,9 +113,9 @@ TEST_F(CommandTool, SaveMapExitsZeroAndTheMapStoreLoadsTheDirectory) {
 }
 
 TEST_F(CommandTool, DaemonErrorsExitOneWithTheDaemonsMessage) {
-  const auto dir = TestDir("tool-errors");
-  WriteShortSequence(dir);
-  const TrackingDaemon daemon(102, dir);
+  const test::TempDir dir("system-tool-errors");
+  WriteShortSequence(dir.path());
+  const TrackingDaemon daemon(102, dir.path());
   // A regular file as the target: the daemon refuses to replace it.
   std::ofstream(dir / "precious.txt") << "not a map\n";
   CommandRun run = daemon.Command({"save_map", (dir / "precious.txt").string()},
@@ -147,7 +148,7 @@ TEST_F(CommandTool, DaemonErrorsExitOneWithTheDaemonsMessage) {
 }
 
 TEST_F(CommandTool, WithoutADaemonExitsThreeWithinTheTimeout) {
-  const auto dir = TestDir("tool-no-daemon");
+  const test::TempDir dir("system-tool-no-daemon");
   const auto t0 = std::chrono::steady_clock::now();
   ChildProcess tool("dammloam-command",
                     {"save_map", (dir / "map").string(), "--domain", "103", "--timeout", "2"},
@@ -163,7 +164,7 @@ TEST_F(CommandTool, WithoutADaemonExitsThreeWithinTheTimeout) {
 }
 
 TEST_F(CommandTool, BadUsageAndAMissingCycloneDdsUriExitTwo) {
-  const auto dir = TestDir("tool-usage");
+  const test::TempDir dir("system-tool-usage");
   ChildProcess no_name("dammloam-command", {"--domain", "104"}, dir / "no-name.log");
   ChildProcess bad_timeout("dammloam-command", {"save_map", "x", "--timeout", "-1"},
                            dir / "bad-timeout.log");

@@ -14,6 +14,7 @@
 #include "tests/system/child_process.hpp"
 #include "tests/system/command_test_client.hpp"
 #include "tests/system/dds_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 #include "io/mapstore/map_store.hpp"
 
@@ -87,7 +88,7 @@ bool Contains(const std::string& text, const std::string& part) {
 }
 
 TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
-  const auto dir = TestDir("cmd-save");
+  const test::TempDir dir("system-cmd-save");
   const sim::Simulator simulator = SmallSimulator(kScans);
   Harness h(CommandTestConfig(91, simulator, dir), simulator);
   for (int i = 0; i < kScans; ++i) h.Track(i);
@@ -104,14 +105,14 @@ TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
   for (const backend::Keyframe& kf : map.keyframes) EXPECT_FALSE(kf.descriptor.empty());
   // Saving again replaces the map in place (atomic swap), leaving no staging directory.
   EXPECT_TRUE(h.Call(2, "save_map", (dir / "map").string()).ok);
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  for (const auto& entry : fs::directory_iterator(dir.path())) {
     EXPECT_EQ(entry.path().filename(), "map") << "left behind: " << entry.path();
   }
   h.daemon.Stop();
 }
 
 TEST_F(DaemonCommands, FailedCommandsAreAnsweredWithErrorsWhileTrackingGoesOn) {
-  const auto dir = TestDir("cmd-errors");
+  const test::TempDir dir("system-cmd-errors");
   const sim::Simulator simulator = SmallSimulator(8);
   Harness h(CommandTestConfig(92, simulator, dir), simulator);
 
@@ -169,7 +170,7 @@ double Distance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 }
 
 TEST_F(DaemonCommands, RelocalizeTracksInTheSavedMapCloseToTheMappingRun) {
-  const auto dir = TestDir("cmd-relocalize");
+  const test::TempDir dir("system-cmd-relocalize");
   const sim::Simulator simulator = SmallSimulator(kScans);
   // Mapping run: poses of every scan in the map frame, then the map.
   std::vector<Eigen::Isometry3d> mapped;
@@ -219,7 +220,7 @@ TEST_F(DaemonCommands, SigtermSavesTheMapOnShutdownCompletely) {
   constexpr std::uint32_t kDomain = 95;
   constexpr int kShortScans = 12;
   if (!ToolExists("dammloamd")) GTEST_SKIP() << "dammloamd not built in " << DAMMLOAM_BIN_DIR;
-  const auto dir = TestDir("cmd-shutdown");
+  const test::TempDir dir("system-cmd-shutdown");
   const sim::Simulator simulator = SmallSimulator(kShortScans);
   WriteSequence(simulator, kShortScans, dir / "seq");
   // Loop closure off: the back-end still runs, for the map only.

@@ -6,13 +6,14 @@
 
 #include "services/dammloamd/command_gate.hpp"
 #include "services/dammloamd/daemon_config.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 
 namespace dammloam::daemon {
 namespace {
 
 std::string LoadError(const std::string& yaml) {
-  const auto dir = test::TestDir("config");
+  const test::TempDir dir("system-config");
   const auto file = dir / "bad.yaml";
   std::ofstream(file) << yaml;
   try {
@@ -50,7 +51,7 @@ TEST(DaemonConfig, MistakesAreReportedWithTheKey) {
 TEST(DaemonConfig, SaveMapOnShutdownIsCheckedAtStartUp) {
   EXPECT_TRUE(LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml")
                   .daemon.save_map_on_shutdown.empty()) << "off by default";
-  const auto dir = test::TestDir("config-save");
+  const test::TempDir dir("system-config-save");
   std::ofstream(dir / "file.txt") << "x\n";
   std::filesystem::create_directories(dir / "foreign");
   std::ofstream(dir / "foreign" / "notes.txt") << "x\n";
@@ -155,7 +156,7 @@ TEST(DaemonConfig, Ros2SectionDefaultsParseAndMistakesNameTheKey) {
   EXPECT_EQ(r.sensor_frame, "");
   EXPECT_EQ(r.deskew, dds::PointTimes::kRequired);
 
-  const auto dir = test::TestDir("config-ros2");
+  const test::TempDir dir("system-config-ros2");
   std::ofstream(dir / "ros2.yaml") << "dammloamd:\n  ros2:\n    enabled: true\n"
                                       "    points_topic: /ouster/points\n    deskew: off\n"
                                       "    sensor_frame: os_sensor\n    publish_tf: false\n";

@@ -6,6 +6,7 @@
 
 #include "tests/system/child_process.hpp"
 #include "tests/system/dds_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 #include "io/tum.hpp"
 
@@ -31,7 +32,7 @@ class DaemonProcess : public ::testing::Test {
 
 TEST_F(DaemonProcess, SigtermStopsTheDaemonCleanlyWithinOneSecond) {
   constexpr std::uint32_t kDomain = 81;
-  const auto dir = TestDir("sigterm");
+  const test::TempDir dir("system-sigterm");
   const sim::Simulator simulator = SmallSimulator(2);
   WriteSequence(simulator, 2, dir / "seq");
   ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
@@ -53,7 +54,7 @@ TEST_F(DaemonProcess, SigtermStopsTheDaemonCleanlyWithinOneSecond) {
 }
 
 TEST_F(DaemonProcess, EveryToolRefusesToStartWithoutCycloneDdsUri) {
-  const auto dir = TestDir("no-uri");
+  const test::TempDir dir("system-no-uri");
   const std::string saved = std::getenv("CYCLONEDDS_URI");
   unsetenv("CYCLONEDDS_URI");
   ChildProcess daemon("dammloamd", {"--domain", "82"}, dir / "daemon.log");
@@ -106,11 +107,11 @@ std::vector<ReceivedPose> LockstepRun(std::uint32_t domain, const std::filesyste
 
 TEST_F(DaemonProcess, ReplayKilledAndRestartedMidStreamIsPickedUpAgain) {
   constexpr int kScans = 12;
-  const auto dir = TestDir("restart");
+  const test::TempDir dir("system-restart");
   const sim::Simulator simulator = SmallSimulator(kScans);
   WriteSequence(simulator, kScans, dir / "seq");
-  const auto restarted = LockstepRun(83, dir, kScans, 5);
-  const auto uninterrupted = LockstepRun(85, dir, kScans, 0);
+  const auto restarted = LockstepRun(83, dir.path(), kScans, 5);
+  const auto uninterrupted = LockstepRun(85, dir.path(), kScans, 0);
 
   // Every scan got exactly one pose, and tracking went on across the restart exactly as in an
   // uninterrupted run.
@@ -129,7 +130,7 @@ TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {
   constexpr std::uint32_t kDomain = 84;
   constexpr int kScans = 10;
   if (!ToolExists("dammloam-odometry")) GTEST_SKIP() << "dammloam-odometry not built";
-  const auto dir = TestDir("equivalence");
+  const test::TempDir dir("system-equivalence");
   const sim::Simulator simulator = SmallSimulator(kScans);
   WriteSequence(simulator, kScans, dir / "seq");
 

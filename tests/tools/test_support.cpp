@@ -1,8 +1,5 @@
 #include "tests/tools/test_support.hpp"
 
-#include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -10,23 +7,6 @@
 #include "io/io_error.hpp"
 
 namespace dammloam::test {
-
-TempDir::TempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "dammloam";
-  for (char& c : name) {
-    if (c == '/') c = '_';
-  }
-  path_ = std::filesystem::temp_directory_path() /
-          ("dammloam_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(path_);
-  std::filesystem::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
 
 std::string IoErrorOf(const std::function<void()>& f) {
   try {
