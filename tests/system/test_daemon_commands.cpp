@@ -90,7 +90,7 @@ bool Contains(const std::string& text, const std::string& part) {
 TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
   const test::TempDir dir("system-cmd-save");
   const sim::Simulator simulator = SmallSimulator(kScans);
-  Harness h(CommandTestConfig(91, simulator, dir), simulator);
+  Harness h(CommandTestConfig(91, simulator, dir.path()), simulator);
   for (int i = 0; i < kScans; ++i) h.Track(i);
 
   const ReceivedReply reply = h.Call(1, "save_map", (dir / "map").string());
@@ -114,7 +114,7 @@ TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
 TEST_F(DaemonCommands, FailedCommandsAreAnsweredWithErrorsWhileTrackingGoesOn) {
   const test::TempDir dir("system-cmd-errors");
   const sim::Simulator simulator = SmallSimulator(8);
-  Harness h(CommandTestConfig(92, simulator, dir), simulator);
+  Harness h(CommandTestConfig(92, simulator, dir.path()), simulator);
 
   // Before any scan: the map is empty.
   ReceivedReply reply = h.Call(1, "save_map", (dir / "early").string());
@@ -175,14 +175,14 @@ TEST_F(DaemonCommands, RelocalizeTracksInTheSavedMapCloseToTheMappingRun) {
   // Mapping run: poses of every scan in the map frame, then the map.
   std::vector<Eigen::Isometry3d> mapped;
   {
-    Harness mapping(CommandTestConfig(93, simulator, dir), simulator);
+    Harness mapping(CommandTestConfig(93, simulator, dir.path()), simulator);
     for (int i = 0; i < kScans; ++i) mapped.push_back(mapping.Track(i).T);
     ASSERT_TRUE(mapping.Call(1, "save_map", (dir / "map").string()).ok);
     mapping.daemon.Stop();
   }
   // A second daemon starts mid-sequence, so its odometry frame is not the map frame.
   constexpr int kStart = 25, kSwitch = 28;
-  Harness h(CommandTestConfig(94, simulator, dir), simulator);
+  Harness h(CommandTestConfig(94, simulator, dir.path()), simulator);
   for (int i = kStart; i < kSwitch; ++i) EXPECT_TRUE(h.Track(i).registered);
   const double frame_offset = Distance(h.client.poses.back().T, mapped[kSwitch - 1]);
   std::printf("odometry frame vs map frame before relocalize: %.3f m apart\n", frame_offset);
@@ -275,7 +275,8 @@ void ExpectRefused(const ReceivedReply& reply, const std::string& reason) {
 }
 
 TEST_F(DaemonCommands, EveryCommandIsRefusedWhileCommandsAreDisabled) {
-  const auto dir = TestDir("cmd-disabled");
+  const test::TempDir temp_dir("cmd-disabled");
+  const std::filesystem::path dir = temp_dir.path();
   const sim::Simulator simulator = SmallSimulator(4);
   daemon::DaemonConfig config = CommandTestConfig(181, simulator, dir);
   config.commands = {};  // the default: off
@@ -295,7 +296,8 @@ TEST_F(DaemonCommands, EveryCommandIsRefusedWhileCommandsAreDisabled) {
 }
 
 TEST_F(DaemonCommands, PathsOutsideTheMapRootAreRefusedAndPathsInsideAreSaved) {
-  const auto dir = TestDir("cmd-root");
+  const test::TempDir temp_dir("cmd-root");
+  const std::filesystem::path dir = temp_dir.path();
   const fs::path root = dir / "maps";
   fs::create_directories(root / "sub");
   fs::create_directories(dir / "outside");
@@ -340,7 +342,8 @@ TEST_F(DaemonCommands, PathsOutsideTheMapRootAreRefusedAndPathsInsideAreSaved) {
 }
 
 TEST_F(DaemonCommands, AWrongOrMissingTokenIsRefused) {
-  const auto dir = TestDir("cmd-token");
+  const test::TempDir temp_dir("cmd-token");
+  const std::filesystem::path dir = temp_dir.path();
   const sim::Simulator simulator = SmallSimulator(4);
   daemon::DaemonConfig config = CommandTestConfig(183, simulator, dir);
   config.commands.token = "s3cret-token";
@@ -363,7 +366,8 @@ TEST_F(DaemonCommands, AWrongOrMissingTokenIsRefused) {
 }
 
 TEST_F(DaemonCommands, ParticipantsMissingFromTheAllowListAreRefused) {
-  const auto dir = TestDir("cmd-allow");
+  const test::TempDir temp_dir("cmd-allow");
+  const std::filesystem::path dir = temp_dir.path();
   const sim::Simulator simulator = SmallSimulator(4);
   constexpr std::uint32_t kDomain = 184;
   // The allowed commander exists before the daemon, so its GUID can go into the config.

@@ -77,7 +77,8 @@ TEST(DaemonConfig, CommandsAreOffByDefaultAndAnEnabledSectionIsChecked) {
   EXPECT_TRUE(shipped.allowed_participants.empty());
   EXPECT_FALSE(CommandsConfig{}.enabled);
 
-  const auto dir = test::TestDir("config-commands");
+  const test::TempDir temp_dir("config-commands");
+  const std::filesystem::path dir = temp_dir.path();
   const std::string root = dir.string();
   EXPECT_EQ(LoadError("dammloamd:\n  commands:\n    enabled: true\n    map_root: " + root +
                       "\n    token: abc\n    allowed_participants: [0110aBcD]\n"), "");
@@ -121,7 +122,8 @@ TEST(CommandGate, TokensMatchOnlyWhenEqual) {
 // the spellings of one directory ("run1/", "./run1") name the same place.
 TEST(CommandGate, PathsResolveInsideARootReachedThroughASymlink) {
   namespace fs = std::filesystem;
-  const auto dir = test::TestDir("config-gate");
+  const test::TempDir temp_dir("config-gate");
+  const std::filesystem::path dir = temp_dir.path();
   fs::create_directories(dir / "data" / "maps");
   fs::create_directory_symlink(dir / "data" / "maps", dir / "maps-link");
   CommandsConfig config;
