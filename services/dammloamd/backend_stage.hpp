@@ -1,7 +1,7 @@
 #pragma once
 // The loop-closure back-end on its own thread: AddScan() is cheap (called by the publish
 // stage), Process() (retrieval, verification, Ceres) and map saves run on this thread and never
-// block odometry. Only built when the back-end library is (DAMMLOAM_HAVE_BACKEND).
+// block odometry.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>

@@ -190,9 +190,6 @@ void ValidateSaveOnShutdown(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
   const std::string key = "dammloamd.save_map_on_shutdown";
   if (dir.empty()) return;
-#ifndef DAMMLOAM_HAVE_BACKEND
-  Fail(key, "needs the back-end, which this build does not include");
-#endif
   std::error_code ec;
   if (fs::exists(dir, ec)) {
     if (!fs::is_directory(dir, ec)) Fail(key, "(" + dir.string() + ") exists and is not a directory");

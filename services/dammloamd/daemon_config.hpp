@@ -60,7 +60,7 @@ struct DaemonConfig {
   std::size_t max_backlog = 1;          // scans allowed to wait behind the one in work
   int labelled_cloud_every = 1;         // publish every Nth LabelledCloud; 0 = never
   double status_period = 1.0;           // seconds
-  bool loop_closure = true;             // only if the back-end library was built in
+  bool loop_closure = true;             // run the loop-closure back-end thread
   // Map directory written (atomically) by Stop(); empty = off. Runs the back-end (keyframes only,
   // no loop search) even when loop_closure is false.
   std::filesystem::path save_map_on_shutdown;

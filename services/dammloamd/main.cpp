@@ -1,5 +1,5 @@
 // dammloamd: subscribes to PointCloud and Command, publishes Odometry, LabelledCloud, Status,
-// CommandReply (and LoopClosure when the back-end is built in) over Cyclone DDS; with --ros2 also
+// CommandReply and LoopClosure over Cyclone DDS; with --ros2 also
 // ROS 2 PointCloud2 in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
     spdlog::info("dammloamd on domain {}: {} -> {}, {}, {}; sensor {} ({}x{}); loop closure {}",
                  d.domain, d.topics.points, d.topics.odometry, d.topics.labelled_cloud,
                  d.topics.status, d.sensor_name, d.sensor.rings, d.sensor.columns,
-                 d.loop_closure && dammloam::daemon::Daemon::LoopClosureBuiltIn() ? "on" : "off");
+                 d.loop_closure ? "on" : "off");
     if (d.commands.enabled) {
       spdlog::info("commands on {} (save_map, relocalize) in {}, replies on {}; token {}, "
                    "{} allowed participant prefixes", d.topics.command,

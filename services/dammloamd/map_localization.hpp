@@ -6,7 +6,6 @@
 // Threading: Load() runs on the command thread (reading the map and building the ICP target
 // take far longer than a scan); it hands the finished Localizer over through a mutex-guarded
 // slot that the publish thread picks up before its next scan, so neither waits for the other.
-// Only built when the back-end library is (DAMMLOAM_HAVE_BACKEND).
 #include <Eigen/Geometry>
 #include <atomic>
 #include <filesystem>
