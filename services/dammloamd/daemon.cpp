@@ -94,6 +94,10 @@ struct Daemon::Ros2Endpoints {
 
 Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
                FaultInjector fault)
+    : Daemon(config, odometry_config, backend::BackendParameters{}, std::move(fault)) {}
+
+Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+               const backend::BackendParameters& backend_config, FaultInjector fault)
     : config_(config),
       odometry_config_(odometry_config),
       extractor_(odometry_config.preprocess, config.sensor),
@@ -126,10 +130,10 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
   // The shutdown save needs keyframes even when loop closure is off.
   if (config.loop_closure || !config.save_map_on_shutdown.empty()) {
     loop_closure_ = std::make_unique<LoopClosureStage>(
-        participant_, config, config.loop_closure,
+        participant_, config, backend_config.loop_closing, config.loop_closure,
         [this](const std::string& message) { StageFailed(Stage::kBackend, message); }, fault_);
   }
-  localization_ = std::make_unique<MapLocalization>();
+  localization_ = std::make_unique<MapLocalization>(backend_config.localizer);
   commands_ = std::make_unique<CommandStage>(
       participant_, config,
       std::map<std::string, CommandHandler>{

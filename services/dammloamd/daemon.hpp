@@ -58,6 +58,9 @@ class Daemon {
  public:
   // `fault` is a test seam (daemon_stats.hpp); production passes none.
   Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+         const backend::BackendParameters& backend_config, FaultInjector fault = {});
+  // With the back-end's default parameters.
+  Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
          FaultInjector fault = {});
   ~Daemon();
   Daemon(const Daemon&) = delete;

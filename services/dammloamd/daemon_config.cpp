@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 
 namespace dammloam::daemon {
@@ -241,10 +242,13 @@ FullConfig LoadConfig(const std::filesystem::path& file) {
     throw std::runtime_error("cannot read config " + file.string() + ": " + e.what());
   }
   try {
-    if (root && !root.IsMap()) Fail("<root>", "must be a map with sections dammloamd, odometry");
-    RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry"});
+    if (root && !root.IsMap()) {
+      Fail("<root>", "must be a map with sections dammloamd, odometry, backend");
+    }
+    RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry", "backend"});
     config.daemon = ParseDaemon(root["dammloamd"]);
     if (root["odometry"]) config.odometry = io::ParseOdometryConfig(root["odometry"]);
+    if (root["backend"]) config.backend = io::ParseBackendConfig(root["backend"], "backend");
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
   }

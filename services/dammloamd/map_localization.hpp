@@ -28,6 +28,8 @@ struct MapPose {
 
 class MapLocalization {
  public:
+  explicit MapLocalization(const backend::LocalizerConfig& config = {}) : config_(config) {}
+
   // Command thread. Loads and checks the map; on failure the current mode is left untouched.
   CommandOutcome Load(const std::filesystem::path& dir);
 
@@ -40,6 +42,7 @@ class MapLocalization {
  private:
   void TakePending();
 
+  backend::LocalizerConfig config_;
   std::atomic<bool> loaded_{false};
   std::mutex pending_mutex_;
   std::unique_ptr<backend::Localizer> pending_;
