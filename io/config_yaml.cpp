@@ -1,81 +1,23 @@
 #include "io/config_yaml.hpp"
 
-#include <set>
-#include <sstream>
 #include <yaml-cpp/yaml.h>
+
+#include "io/yaml_section.hpp"
 
 namespace dammloam::io {
 
 namespace {
 
-// One YAML mapping with the dotted path that leads to it. Every key read is remembered so
-// that leftovers (typos, keys of another version) are reported instead of silently ignored.
-class Section {
- public:
-  Section(YAML::Node node, std::string path) : node_(std::move(node)), path_(std::move(path)) {
-    if (node_ && !node_.IsNull() && !node_.IsMap()) Fail("", "expected a mapping");
+void GetMode(Section& s, const std::string& key, RegistrationMode& mode) {
+  std::string name(Name(mode));
+  s.Get(key, name);
+  const auto parsed = ParseRegistrationMode(name);
+  if (!parsed) {
+    s.Fail(key, "unknown value '" + name +
+                      "' (expected full, point_to_point, plane_only or classes_no_degeneracy)");
   }
-
-  template <typename T>
-  void Get(const std::string& key, T& value) {
-    known_.insert(key);
-    if (!node_ || node_.IsNull()) return;
-    const YAML::Node v = node_[key];
-    if (!v) return;
-    try {
-      if (!v.IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "not a scalar");
-      value = v.as<T>();
-    } catch (const YAML::Exception&) {
-      Fail(key, "expected " + TypeName<T>() + ", got '" + Dump(v) + "'");
-    }
-  }
-
-  void GetMode(const std::string& key, RegistrationMode& mode) {
-    std::string name(Name(mode));
-    Get(key, name);
-    const auto parsed = ParseRegistrationMode(name);
-    if (!parsed) {
-      Fail(key, "unknown value '" + name +
-                    "' (expected full, point_to_point, plane_only or classes_no_degeneracy)");
-    }
-    mode = *parsed;
-  }
-
-  Section Child(const std::string& key) {
-    known_.insert(key);
-    return Section(node_ && node_.IsMap() ? node_[key] : YAML::Node(), Join(key));
-  }
-
-  void RejectUnknownKeys() const {
-    if (!node_ || !node_.IsMap()) return;
-    for (const auto& kv : node_) {
-      const std::string key = kv.first.as<std::string>();
-      if (!known_.count(key)) Fail(key, "unknown key");
-    }
-  }
-
- private:
-  template <typename T>
-  static std::string TypeName() {
-    if constexpr (std::is_same_v<T, bool>) return "true or false";
-    else if constexpr (std::is_integral_v<T>) return "an integer";
-    else if constexpr (std::is_floating_point_v<T>) return "a number";
-    else return "a string";
-  }
-  static std::string Dump(const YAML::Node& v) {
-    std::ostringstream out;
-    out << v;
-    return out.str();
-  }
-  std::string Join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-  [[noreturn]] void Fail(const std::string& key, const std::string& what) const {
-    throw ConfigError((key.empty() ? path_ : Join(key)) + ": " + what);
-  }
-
-  YAML::Node node_;
-  std::string path_;
-  std::set<std::string> known_;
-};
+  mode = *parsed;
+}
 
 void ReadPreprocess(Section s, PreprocessConfig& c) {
   s.Get("min_range", c.min_range);
@@ -127,7 +69,7 @@ void ReadMap(Section s, MapConfig& c) {
 }
 
 void ReadRegistration(Section s, RegistrationConfig& c) {
-  s.GetMode("mode", c.mode);
+  GetMode(s, "mode", c.mode);
   s.Get("max_iterations", c.max_iterations);
   s.Get("convergence_criterion", c.convergence_criterion);
   s.Get("initial_threshold", c.initial_threshold);
@@ -182,14 +124,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
 }
 
 OdometryConfig LoadOdometryConfig(const std::filesystem::path& file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(file.string() + ": cannot open");
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(file.string() + ": invalid YAML: " + e.what());
-  }
+  const YAML::Node root = LoadYamlFile(file);
   try {
     return ParseOdometryConfig(root);
   } catch (const ConfigError& e) {

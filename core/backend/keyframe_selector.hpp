@@ -7,6 +7,8 @@ namespace dammloam::backend {
 struct KeyframeSelectorConfig {
   double min_distance = 1.0;             // metres travelled since the last keyframe
   double min_rotation_rad = 0.26;        // ~15 degrees turned since the last keyframe
+
+  bool operator==(const KeyframeSelectorConfig&) const = default;
 };
 
 // Decides whether a new scan becomes a keyframe: the first scan always does, later ones when

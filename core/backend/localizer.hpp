@@ -24,6 +24,8 @@ struct LocalizerConfig {
   double relocalize_max_rmse = 0.08;  // metres
   double track_min_inlier_ratio = 0.5;
   double track_max_rmse = 0.15;       // metres
+
+  bool operator==(const LocalizerConfig&) const = default;
 };
 
 struct LocalizationResult {

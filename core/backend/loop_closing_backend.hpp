@@ -30,6 +30,8 @@ struct BackendConfig {
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres
   double loop_rotation_sigma = 0.01;    // radians
+
+  bool operator==(const BackendConfig&) const = default;
 };
 
 // Corrected pose of one odometry scan.

@@ -33,6 +33,8 @@ struct LoopVerifierConfig {
   // Weak priors that keep the loop's information invertible along free directions.
   double free_translation_sigma = 100.0; // metres
   double free_rotation_sigma = 1.0;      // radians
+
+  bool operator==(const LoopVerifierConfig&) const = default;
 };
 
 // Registers a Scan Context candidate pair with point-to-plane ICP and decides whether it is a

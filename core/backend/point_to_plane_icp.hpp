@@ -40,6 +40,8 @@ struct IcpConfig {
   double min_direction_support = 0.0;
   // Cauchy scale (metres) of the final residuals weighting the pairs in IcpResult::hessian.
   double information_kernel = 0.05;
+
+  bool operator==(const IcpConfig&) const = default;
 };
 
 struct IcpResult {

@@ -22,6 +22,8 @@ struct PoseGraphConfig {
   // confident, which would leave loop edges nothing to correct.
   double min_translation_sigma = 0.02;  // metres
   double min_rotation_sigma = 0.002;    // radians
+
+  bool operator==(const PoseGraphConfig&) const = default;
 };
 
 struct PoseGraphSummary {

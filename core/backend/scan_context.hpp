@@ -10,6 +10,8 @@ struct ScanContextConfig {
   int sectors = 60;            // azimuthal bins
   double max_range = 80.0;     // metres; use ~20-30 indoors
   double sensor_height = 2.0;  // added to z so that heights are positive (empty bin = 0)
+
+  bool operator==(const ScanContextConfig&) const = default;
 };
 
 // rings x sectors matrix of maximum point height per polar bin, plus its ring key.

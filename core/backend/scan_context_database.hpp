@@ -12,6 +12,8 @@ struct ScanContextDatabaseConfig {
   int num_candidates = 10;       // ring-key nearest neighbours re-ranked by the full distance
   int rebuild_every = 20;        // new entries before the k-d tree is rebuilt (rest: brute force)
   double max_distance = 0.25;    // column-shift distance above which nothing is returned
+
+  bool operator==(const ScanContextDatabaseConfig&) const = default;
 };
 
 struct ScanContextCandidate {

@@ -12,8 +12,7 @@
 namespace dammloam::daemon {
 namespace {
 
-backend::BackendConfig StageBackendConfig(bool verify_loops) {
-  backend::BackendConfig config;
+backend::BackendConfig StageBackendConfig(backend::BackendConfig config, bool verify_loops) {
   if (!verify_loops) config.max_verifications_per_keyframe = 0;
   return config;
 }
@@ -21,14 +20,15 @@ backend::BackendConfig StageBackendConfig(bool verify_loops) {
 }  // namespace
 
 LoopClosureStage::LoopClosureStage(const dds::Participant& participant,
-                                   const DaemonConfig& config, bool verify_loops,
+                                   const DaemonConfig& config,
+                                   const backend::BackendConfig& backend_config, bool verify_loops,
                                    std::function<void(const std::string&)> on_failure,
                                    FaultInjector fault)
     : map_frame_(config.map_frame),
       topic_(participant, dammloam_msg_LoopClosure_desc, config.topics.loop_closure,
              dds::LoopClosureQos()),
       writer_(participant, topic_, dds::LoopClosureQos()),
-      backend_(StageBackendConfig(verify_loops)),
+      backend_(StageBackendConfig(backend_config, verify_loops)),
       on_failure_(std::move(on_failure)),
       fault_(std::move(fault)) {}
 

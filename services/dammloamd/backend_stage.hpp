@@ -1,7 +1,7 @@
 #pragma once
 // The loop-closure back-end on its own thread: AddScan() is cheap (called by the publish
 // stage), Process() (retrieval, verification, Ceres) and map saves run on this thread and never
-// block odometry. Only built when the back-end library is (DAMMLOAM_HAVE_BACKEND).
+// block odometry.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -27,8 +27,8 @@ class LoopClosureStage {
   // dammloam-odometry --no-loop-closure --save-map does). on_failure gets the text of every
   // exception a back-end pass throws (on the back-end thread, or the caller's in SaveNow).
   LoopClosureStage(const dds::Participant& participant, const DaemonConfig& config,
-                   bool verify_loops, std::function<void(const std::string&)> on_failure,
-                   FaultInjector fault = {});
+                   const backend::BackendConfig& backend_config, bool verify_loops,
+                   std::function<void(const std::string&)> on_failure, FaultInjector fault = {});
 
   void Start();
   // Joins the thread; save requests already queued are carried out first.

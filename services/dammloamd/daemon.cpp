@@ -14,10 +14,8 @@
 #include "services/dds/ros2_messages.hpp"
 #include "services/dds/topics.hpp"
 
-#ifdef DAMMLOAM_HAVE_BACKEND
 #include "services/dammloamd/backend_stage.hpp"
 #include "services/dammloamd/map_localization.hpp"
-#endif
 
 namespace dammloam::daemon {
 namespace {
@@ -66,25 +64,6 @@ std::vector<dammloam_msg_ReasonCount> ReasonCounts(
 
 }  // namespace
 
-#ifdef DAMMLOAM_HAVE_BACKEND
-bool Daemon::LoopClosureBuiltIn() { return true; }
-#else
-// Never instantiated without the back-end: they only let the wiring below compile.
-class LoopClosureStage {
- public:
-  bool Failed() const { return false; }
-  void Start() {}
-  void Stop() {}
-  void AddScan(const OdometryResult&) {}
-};
-struct MapPose {
-  Eigen::Isometry3d T_map_sensor = Eigen::Isometry3d::Identity();
-  bool localized = false;
-};
-class MapLocalization {};
-bool Daemon::LoopClosureBuiltIn() { return false; }
-#endif
-
 struct Daemon::Ros2Endpoints {
   Ros2Endpoints(const dds::Participant& participant, const Ros2Config& config)
       : points_topic(participant, sensor_msgs_msg_dds__PointCloud2__desc,
@@ -115,6 +94,10 @@ struct Daemon::Ros2Endpoints {
 
 Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
                FaultInjector fault)
+    : Daemon(config, odometry_config, backend::BackendParameters{}, std::move(fault)) {}
+
+Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+               const backend::BackendParameters& backend_config, FaultInjector fault)
     : config_(config),
       odometry_config_(odometry_config),
       extractor_(odometry_config.preprocess, config.sensor),
@@ -144,15 +127,13 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
     ros2_ = std::make_unique<Ros2Endpoints>(participant_, config.ros2);
     waitset_.Attach(ros2_->points_reader);
   }
-#ifdef DAMMLOAM_HAVE_BACKEND
   // The shutdown save needs keyframes even when loop closure is off.
   if (config.loop_closure || !config.save_map_on_shutdown.empty()) {
     loop_closure_ = std::make_unique<LoopClosureStage>(
-        participant_, config, config.loop_closure,
+        participant_, config, backend_config.loop_closing, config.loop_closure,
         [this](const std::string& message) { StageFailed(Stage::kBackend, message); }, fault_);
   }
-  localization_ = std::make_unique<MapLocalization>();
-#endif
+  localization_ = std::make_unique<MapLocalization>(backend_config.localizer);
   commands_ = std::make_unique<CommandStage>(
       participant_, config,
       std::map<std::string, CommandHandler>{
@@ -437,44 +418,27 @@ void Daemon::PublishRos2Labelled(const RegisteredScan& item, const dds::Labelled
 }
 
 std::optional<MapPose> Daemon::Locate(const OdometryResult& result) {
-#ifdef DAMMLOAM_HAVE_BACKEND
   return localization_->Locate(result);
-#else
-  (void)result;
-  return std::nullopt;
-#endif
 }
 
 std::uint8_t Daemon::RunningState() const {
   if (stats_.Snapshot().processed == 0) return dammloam_msg_STATE_WAITING;
   // Odometry goes on, but the map is no longer being corrected: not a healthy state.
   if (loop_closure_ && loop_closure_->Failed()) return dammloam_msg_STATE_DEGRADED;
-#ifdef DAMMLOAM_HAVE_BACKEND
   if (localization_->Active()) return dammloam_msg_STATE_LOCALIZING;
-#endif
   return dammloam_msg_STATE_TRACKING;
 }
 
 CommandOutcome Daemon::SaveMapCommand(const std::string& dir) {
-#ifdef DAMMLOAM_HAVE_BACKEND
   if (!loop_closure_) {
     return {false, "no map to save: the back-end is off (dammloamd.loop_closure is false and "
                    "save_map_on_shutdown is empty)"};
   }
   return loop_closure_->RequestSave(dir).get();  // this thread waits, the back-end saves
-#else
-  (void)dir;
-  return {false, "no map to save: this dammloamd was built without the back-end"};
-#endif
 }
 
 CommandOutcome Daemon::RelocalizeCommand(const std::string& dir) {
-#ifdef DAMMLOAM_HAVE_BACKEND
   return localization_->Load(dir);
-#else
-  (void)dir;
-  return {false, "cannot relocalize: this dammloamd was built without the back-end"};
-#endif
 }
 
 void Daemon::CommandFailed(const std::string& message) {
@@ -510,7 +474,6 @@ void Daemon::StageFailed(Stage stage, const std::string& message) {
 // exits (SaveMap renames a finished directory into place).
 void Daemon::SaveOnShutdown() {
   if (config_.save_map_on_shutdown.empty() || !loop_closure_) return;
-#ifdef DAMMLOAM_HAVE_BACKEND
   const CommandOutcome outcome = loop_closure_->SaveNow(config_.save_map_on_shutdown);
   if (outcome.ok) {
     spdlog::info("shutdown: {}", outcome.message);
@@ -518,7 +481,6 @@ void Daemon::SaveOnShutdown() {
     spdlog::error("shutdown: {}", outcome.message);
     stats_.Error("save_map_on_shutdown: " + outcome.message);
   }
-#endif
 }
 
 void Daemon::PublishStatus(bool error_event, std::uint8_t state) {

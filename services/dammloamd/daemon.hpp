@@ -49,7 +49,7 @@ struct RegisteredScan {
   OdometryResult result;
 };
 
-// Defined in backend_stage.hpp / map_localization.hpp when the back-end is built in.
+// Defined in backend_stage.hpp / map_localization.hpp.
 class LoopClosureStage;
 class MapLocalization;
 struct MapPose;
@@ -57,6 +57,9 @@ struct MapPose;
 class Daemon {
  public:
   // `fault` is a test seam (daemon_stats.hpp); production passes none.
+  Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
+         const backend::BackendParameters& backend_config, FaultInjector fault = {});
+  // With the back-end's default parameters.
   Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config,
          FaultInjector fault = {});
   ~Daemon();
@@ -70,7 +73,6 @@ class Daemon {
   void Stop();
 
   StatusSnapshot Stats() const { return stats_.Snapshot(); }
-  static bool LoopClosureBuiltIn();
 
  private:
   void ReceiveLoop();
@@ -142,7 +144,7 @@ class Daemon {
   std::unique_ptr<Ros2Endpoints> ros2_;
 
   std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
-  std::unique_ptr<MapLocalization> localization_;    // null: built without the back-end
+  std::unique_ptr<MapLocalization> localization_;    // never null
   std::unique_ptr<CommandStage> commands_;
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;

@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 
 namespace dammloam::daemon {
@@ -190,9 +191,6 @@ void ValidateSaveOnShutdown(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
   const std::string key = "dammloamd.save_map_on_shutdown";
   if (dir.empty()) return;
-#ifndef DAMMLOAM_HAVE_BACKEND
-  Fail(key, "needs the back-end, which this build does not include");
-#endif
   std::error_code ec;
   if (fs::exists(dir, ec)) {
     if (!fs::is_directory(dir, ec)) Fail(key, "(" + dir.string() + ") exists and is not a directory");
@@ -244,10 +242,13 @@ FullConfig LoadConfig(const std::filesystem::path& file) {
     throw std::runtime_error("cannot read config " + file.string() + ": " + e.what());
   }
   try {
-    if (root && !root.IsMap()) Fail("<root>", "must be a map with sections dammloamd, odometry");
-    RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry"});
+    if (root && !root.IsMap()) {
+      Fail("<root>", "must be a map with sections dammloamd, odometry, backend");
+    }
+    RejectUnknownKeys(root, "<root>", {"dammloamd", "odometry", "backend"});
     config.daemon = ParseDaemon(root["dammloamd"]);
     if (root["odometry"]) config.odometry = io::ParseOdometryConfig(root["odometry"]);
+    if (root["backend"]) config.backend = io::ParseBackendConfig(root["backend"], "backend");
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
   }

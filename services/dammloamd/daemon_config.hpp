@@ -1,12 +1,14 @@
 #pragma once
-// dammloamd configuration: the `dammloamd` section of the YAML file (this struct) and the
-// `odometry` section (OdometryConfig, parsed by io/config_yaml).
+// dammloamd configuration: the `dammloamd` section of the YAML file (this struct), the
+// `odometry` section (OdometryConfig, parsed by io/config_yaml) and the `backend` section
+// (backend::BackendParameters, parsed by io/backend_config_yaml).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "core/backend/backend_config.hpp"
 #include "core/geometry/scan.hpp"
 #include "core/odometry/odometry_config.hpp"
 #include "services/dds/point_cloud.hpp"
@@ -60,7 +62,7 @@ struct DaemonConfig {
   std::size_t max_backlog = 1;          // scans allowed to wait behind the one in work
   int labelled_cloud_every = 1;         // publish every Nth LabelledCloud; 0 = never
   double status_period = 1.0;           // seconds
-  bool loop_closure = true;             // only if the back-end library was built in
+  bool loop_closure = true;             // run the loop-closure back-end thread
   // Map directory written (atomically) by Stop(); empty = off. Runs the back-end (keyframes only,
   // no loop search) even when loop_closure is false.
   std::filesystem::path save_map_on_shutdown;
@@ -71,9 +73,10 @@ struct DaemonConfig {
 struct FullConfig {
   DaemonConfig daemon;
   OdometryConfig odometry;
+  backend::BackendParameters backend;
 };
 
-// Reads the YAML file (both sections optional; unknown keys and wrong types are errors naming the
+// Reads the YAML file (every section optional; unknown keys and wrong types are errors naming the
 // key). Throws std::runtime_error naming the file and key. An empty path gives the defaults.
 FullConfig LoadConfig(const std::filesystem::path& file);
 

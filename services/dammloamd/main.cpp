@@ -1,5 +1,5 @@
 // dammloamd: subscribes to PointCloud and Command, publishes Odometry, LabelledCloud, Status,
-// CommandReply (and LoopClosure when the back-end is built in) over Cyclone DDS; with --ros2 also
+// CommandReply and LoopClosure over Cyclone DDS; with --ros2 also
 // ROS 2 PointCloud2 in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -9,6 +9,7 @@
 
 #include "services/dammloamd/daemon.hpp"
 #include "services/dds/network_guard.hpp"
+#include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 #include "io/io_error.hpp"
 #include "io/sequence_meta.hpp"
@@ -18,6 +19,7 @@ namespace {
 struct Options {
   std::string config_file;
   std::string odometry_config_file;
+  std::string backend_config_file;
   std::optional<std::uint32_t> domain;
   std::string sensor_meta;
   std::string points_topic;
@@ -34,6 +36,9 @@ dammloam::daemon::FullConfig BuildConfig(const Options& o) {
   daemon::FullConfig config = daemon::LoadConfig(o.config_file);
   if (!o.odometry_config_file.empty()) {
     config.odometry = io::LoadOdometryConfig(o.odometry_config_file);
+  }
+  if (!o.backend_config_file.empty()) {
+    config.backend = io::LoadBackendConfig(o.backend_config_file);
   }
   daemon::DaemonConfig& d = config.daemon;
   if (o.domain) d.domain = *o.domain;
@@ -56,10 +61,14 @@ dammloam::daemon::FullConfig BuildConfig(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"dammloamd: DAMM-LOAM LiDAR odometry daemon over Cyclone DDS"};
-  app.add_option("--config", o.config_file, "YAML config (sections dammloamd, odometry)")
+  app.add_option("--config", o.config_file, "YAML config (sections dammloamd, odometry, backend)")
       ->check(CLI::ExistingFile);
   app.add_option("--odometry-config", o.odometry_config_file,
                  "odometry YAML (as dammloam-odometry --config); replaces the odometry section")
+      ->check(CLI::ExistingFile);
+  app.add_option("--backend-config", o.backend_config_file,
+                 "back-end YAML (as dammloam-odometry --backend-config, see "
+                 "deploy/config/backend.yaml); replaces the backend section")
       ->check(CLI::ExistingFile);
   app.add_option("--domain", o.domain, "DDS domain id (overrides dammloamd.domain)");
   app.add_option("--sensor-meta", o.sensor_meta, "sensor from a sequence meta.json")
@@ -105,12 +114,12 @@ int main(int argc, char** argv) {
 
   try {
     const auto& d = config.daemon;
-    dammloam::daemon::Daemon daemon(d, config.odometry);
+    dammloam::daemon::Daemon daemon(d, config.odometry, config.backend);
     daemon.Start();
     spdlog::info("dammloamd on domain {}: {} -> {}, {}, {}; sensor {} ({}x{}); loop closure {}",
                  d.domain, d.topics.points, d.topics.odometry, d.topics.labelled_cloud,
                  d.topics.status, d.sensor_name, d.sensor.rings, d.sensor.columns,
-                 d.loop_closure && dammloam::daemon::Daemon::LoopClosureBuiltIn() ? "on" : "off");
+                 d.loop_closure ? "on" : "off");
     if (d.commands.enabled) {
       spdlog::info("commands on {} (save_map, relocalize) in {}, replies on {}; token {}, "
                    "{} allowed participant prefixes", d.topics.command,

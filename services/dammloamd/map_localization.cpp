@@ -17,7 +17,7 @@ CommandOutcome MapLocalization::Load(const std::filesystem::path& dir) {
       return {false, dir.string() + ": the map has no keyframes or no points"};
     }
     keyframes = map.keyframes.size();
-    localizer = std::make_unique<backend::Localizer>(map);
+    localizer = std::make_unique<backend::Localizer>(map, config_);
   } catch (const std::exception& e) {
     return {false, std::string("cannot load the map: ") + e.what()};
   }

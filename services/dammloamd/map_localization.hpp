@@ -6,7 +6,6 @@
 // Threading: Load() runs on the command thread (reading the map and building the ICP target
 // take far longer than a scan); it hands the finished Localizer over through a mutex-guarded
 // slot that the publish thread picks up before its next scan, so neither waits for the other.
-// Only built when the back-end library is (DAMMLOAM_HAVE_BACKEND).
 #include <Eigen/Geometry>
 #include <atomic>
 #include <filesystem>
@@ -29,6 +28,8 @@ struct MapPose {
 
 class MapLocalization {
  public:
+  explicit MapLocalization(const backend::LocalizerConfig& config = {}) : config_(config) {}
+
   // Command thread. Loads and checks the map; on failure the current mode is left untouched.
   CommandOutcome Load(const std::filesystem::path& dir);
 
@@ -41,6 +42,7 @@ class MapLocalization {
  private:
   void TakePending();
 
+  backend::LocalizerConfig config_;
   std::atomic<bool> loaded_{false};
   std::mutex pending_mutex_;
   std::unique_ptr<backend::Localizer> pending_;

@@ -187,6 +187,44 @@ TEST_F(RunnerCli, CorruptMapFailsWithExitCodeOneNamingTheProblem) {
   EXPECT_NE(no_meta.output.find("map.json"), std::string::npos) << no_meta.output;
 }
 
+// --backend-config reaches the loop-closing back-end (keyframe selection, Scan Context) and the
+// localizer; a mistake in it fails the run before it starts, naming file and key.
+TEST_F(RunnerCli, BackendConfigIsReadAndItsMistakesNameTheKey) {
+  test::WriteText(tmp_ / "one-keyframe.yaml",
+                  "loop_closing:\n  keyframes: {min_distance: 1000.0, min_rotation_rad: 100.0}\n"
+                  "  scan_context: {rings: 12}\n");
+  const ProcessResult mapping =
+      RunOdometry(Sequence() + " --quiet --max-scans 12 --out " + Path("corrected.tum") +
+                  " --save-map " + Path("map") + " --backend-config " + Path("one-keyframe.yaml"));
+  ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
+  const backend::MapData map = mapstore::LoadMap(tmp_ / "map");
+  EXPECT_EQ(map.keyframes.size(), 1u);
+  EXPECT_EQ(map.scan_context.rings, 12);
+
+  // A localizer that counts only millimetre-close points as overlap places no scan.
+  test::WriteText(tmp_ / "strict.yaml",
+                  "localizer:\n  relocalize_icp: {inlier_distance: 0.001}\n");
+  const ProcessResult localizing =
+      RunOdometry(Sequence() + " --max-scans 6 --load-map " + Path("map") + " --localize --out " +
+                  Path("localized.tum") + " --backend-config " + Path("strict.yaml"));
+  EXPECT_EQ(localizing.exit_code, 1) << localizing.output;
+  EXPECT_NE(localizing.output.find("could be localized"), std::string::npos) << localizing.output;
+
+  test::WriteText(tmp_ / "typo.yaml", "loop_closing:\n  scan_context: {ringz: 12}\n");
+  const ProcessResult typo = RunOdometry(Sequence() + " --out " + Path("x.tum") +
+                                         " --backend-config " + Path("typo.yaml"));
+  EXPECT_EQ(typo.exit_code, 1) << typo.output;
+  EXPECT_NE(typo.output.find("typo.yaml: loop_closing.scan_context.ringz: unknown key"),
+            std::string::npos) << typo.output;
+  test::WriteText(tmp_ / "negative.yaml", "loop_closing:\n  scan_context: {rings: -20}\n");
+  const ProcessResult negative = RunOdometry(Sequence() + " --out " + Path("x.tum") +
+                                             " --backend-config " + Path("negative.yaml"));
+  EXPECT_EQ(negative.exit_code, 1) << negative.output;
+  EXPECT_NE(negative.output.find("loop_closing.scan_context.rings: must be >= 1"),
+            std::string::npos) << negative.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp_ / "x.tum"));
+}
+
 TEST_F(RunnerCli, RefusesToSaveTheMapOverSomethingElse) {
   test::WriteText(tmp_ / "precious.txt", "not a map\n");
   const ProcessResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +

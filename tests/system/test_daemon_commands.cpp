@@ -42,8 +42,9 @@ daemon::DaemonConfig CommandTestConfig(std::uint32_t domain, const sim::Simulato
 
 // A daemon in this process with a pose client and a commander on its domain.
 struct Harness {
-  Harness(const daemon::DaemonConfig& config, const sim::Simulator& sim)
-      : simulator(sim), daemon(config, OdometryConfig{}), client(config.domain),
+  Harness(const daemon::DaemonConfig& config, const sim::Simulator& sim,
+          const backend::BackendParameters& backend_config = {})
+      : simulator(sim), daemon(config, OdometryConfig{}, backend_config), client(config.domain),
         commander(config.domain) {
     daemon.Start();
     EXPECT_TRUE(client.WaitForDaemon(milliseconds(10000)));
@@ -79,7 +80,6 @@ class DaemonCommands : public ::testing::Test {
  protected:
   void SetUp() override {
     UseLoopbackDds();
-    if (!daemon::Daemon::LoopClosureBuiltIn()) GTEST_SKIP() << "built without the back-end";
   }
 };
 
@@ -108,6 +108,30 @@ TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
   for (const auto& entry : fs::directory_iterator(dir.path())) {
     EXPECT_EQ(entry.path().filename(), "map") << "left behind: " << entry.path();
   }
+  h.daemon.Stop();
+}
+
+// The `backend` section reaches the back-end thread: its keyframe selection and Scan Context
+// parameters are what the saved map holds.
+TEST_F(DaemonCommands, BackendParametersShapeTheSavedMap) {
+  const auto dir = TestDir("cmd-backend-config");
+  const sim::Simulator simulator = SmallSimulator(8);
+  backend::BackendParameters backend_config;
+  backend_config.loop_closing.keyframes.min_distance = 1000.0;  // only the first scan
+  backend_config.loop_closing.keyframes.min_rotation_rad = 100.0;
+  backend_config.loop_closing.scan_context.rings = 12;
+  backend_config.loop_closing.scan_context.sectors = 36;
+  Harness h(CommandTestConfig(185, simulator, dir), simulator, backend_config);
+  for (int i = 0; i < 8; ++i) h.Track(i);
+
+  const ReceivedReply reply = h.Call(1, "save_map", (dir / "map").string());
+  ASSERT_TRUE(reply.ok) << reply.message;
+  const backend::MapData map = mapstore::LoadMap(dir / "map");
+  ASSERT_EQ(map.keyframes.size(), 1u);
+  EXPECT_EQ(map.scan_context.rings, 12);
+  EXPECT_EQ(map.scan_context.sectors, 36);
+  EXPECT_EQ(map.keyframes[0].descriptor.grid.rows(), 12);
+  EXPECT_EQ(map.keyframes[0].descriptor.grid.cols(), 36);
   h.daemon.Stop();
 }
 

@@ -48,6 +48,30 @@ TEST(DaemonConfig, MistakesAreReportedWithTheKey) {
             std::string::npos);
 }
 
+TEST(DaemonConfig, BackendSectionIsReadAndItsMistakesNameTheKey) {
+  const FullConfig shipped =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
+  EXPECT_TRUE(shipped.backend == backend::BackendParameters{}) << "defaults unless set";
+
+  const auto file = test::TestDir("config-backend") / "backend.yaml";
+  std::ofstream(file) << "backend:\n  loop_closing:\n    scan_context:\n      max_range: 30.0\n"
+                         "  localizer:\n    track_max_rmse: 0.2\n";
+  const FullConfig config = LoadConfig(file);
+  EXPECT_DOUBLE_EQ(config.backend.loop_closing.scan_context.max_range, 30.0);
+  EXPECT_DOUBLE_EQ(config.backend.localizer.track_max_rmse, 0.2);
+  EXPECT_EQ(config.backend.loop_closing.scan_context.rings,
+            backend::ScanContextConfig{}.rings);  // absent: default
+
+  EXPECT_NE(LoadError("backend:\n  loop_closing:\n    scan_contxt: {}\n")
+                .find("backend.loop_closing.scan_contxt: unknown key"), std::string::npos);
+  EXPECT_NE(LoadError("backend:\n  loop_closing:\n    scan_context:\n      rings: -1\n")
+                .find("backend.loop_closing.scan_context.rings: must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(LoadError("backend:\n  localizer:\n    max_registrations: lots\n")
+                .find("backend.localizer.max_registrations: expected an integer"),
+            std::string::npos);
+}
+
 TEST(DaemonConfig, SaveMapOnShutdownIsCheckedAtStartUp) {
   EXPECT_TRUE(LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml")
                   .daemon.save_map_on_shutdown.empty()) << "off by default";

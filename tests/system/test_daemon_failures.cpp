@@ -73,7 +73,6 @@ ReceivedStatus WaitForStatus(DdsTestClient& client, Pred&& pred) {
 
 TEST(DaemonFailures, BackEndFailureIsCountedAndLoopClosureReportsFailed) {
   UseLoopbackDds();
-  if (!daemon::Daemon::LoopClosureBuiltIn()) GTEST_SKIP() << "built without the back-end";
   constexpr std::uint32_t kDomain = 186;
   const sim::Simulator simulator = SmallSimulator(8);
   Faults faults;

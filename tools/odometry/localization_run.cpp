@@ -6,6 +6,7 @@
 
 #include "core/backend/localizer.hpp"
 #include "core/odometry/pipeline.hpp"
+#include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 #include "io/sequence_io.hpp"
 #include "io/mapstore/map_store.hpp"
@@ -20,11 +21,14 @@ int RunLocalization(const RunnerOptions& o) {
   const OdometryConfig config =
       o.config.empty() ? OdometryConfig{} : io::LoadOdometryConfig(o.config);
   io::ValidateOdometryConfig(config);
+  const backend::BackendParameters backend_parameters =
+      o.backend_config.empty() ? backend::BackendParameters{}
+                               : io::LoadBackendConfig(o.backend_config);
   const std::size_t n = o.max_scans > 0 ? std::min(o.max_scans, reader.size()) : reader.size();
   if (n == 0) throw std::runtime_error(o.sequence.string() + ": sequence has no scans");
 
   OdometryPipeline pipeline(config, reader.meta().model);
-  backend::Localizer localizer(map);
+  backend::Localizer localizer(map, backend_parameters.localizer);
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
 
   std::vector<io::StampedPose> odometry, localized;

@@ -1,4 +1,5 @@
-// dammloam-odometry SEQUENCE_DIR --out poses.tum [--config cfg.yaml] [--map map.pcd]
+// dammloam-odometry SEQUENCE_DIR --out poses.tum [--config cfg.yaml]
+//     [--backend-config backend.yaml] [--map map.pcd]
 //     [--stats stats.csv] [--max-scans N] [--quiet]
 //     [--no-loop-closure] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
 // dammloam-odometry SEQUENCE_DIR --out poses.tum --load-map DIR --localize
@@ -17,6 +18,9 @@ int main(int argc, char** argv) {
                  "localized poses with --localize")
       ->required();
   app.add_option("--config", o.config, "odometry YAML config (see deploy/config/odometry.yaml)");
+  app.add_option("--backend-config", o.backend_config,
+                 "back-end YAML config: loop closing and localization (see "
+                 "deploy/config/backend.yaml)");
   app.add_option("--map", o.map, "write the final odometry local map as labelled PCD");
   app.add_option("--stats", o.stats, "write per-scan odometry statistics CSV");
   app.add_option("--max-scans", o.max_scans, "process at most N scans");

@@ -9,6 +9,7 @@
 
 #include "core/backend/loop_closing_backend.hpp"
 #include "core/odometry/pipeline.hpp"
+#include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 #include "io/pcd/labelled_pcd.hpp"
 #include "io/sequence_io.hpp"
@@ -86,6 +87,9 @@ int RunMapping(const RunnerOptions& o) {
   const OdometryConfig config =
       o.config.empty() ? OdometryConfig{} : io::LoadOdometryConfig(o.config);
   io::ValidateOdometryConfig(config);
+  const backend::BackendParameters backend_parameters =
+      o.backend_config.empty() ? backend::BackendParameters{}
+                               : io::LoadBackendConfig(o.backend_config);
   const std::size_t n = o.max_scans > 0 ? std::min(o.max_scans, reader.size()) : reader.size();
   if (n == 0) throw std::runtime_error(o.sequence.string() + ": sequence has no scans");
 
@@ -94,7 +98,7 @@ int RunMapping(const RunnerOptions& o) {
   // keeps keyframes but verifies no loop candidate.
   std::unique_ptr<backend::LoopClosingBackend> backend;
   if (o.loop_closure || !o.save_map.empty()) {
-    backend::BackendConfig backend_config;
+    backend::BackendConfig backend_config = backend_parameters.loop_closing;
     if (!o.loop_closure) backend_config.max_verifications_per_keyframe = 0;
     backend = std::make_unique<backend::LoopClosingBackend>(backend_config);
   }

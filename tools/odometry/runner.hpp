@@ -11,6 +11,7 @@ namespace dammloam::tools {
 
 struct RunnerOptions {
   std::filesystem::path sequence, out, config, map, stats;
+  std::filesystem::path backend_config;  // back-end YAML (deploy/config/backend.yaml)
   std::filesystem::path odometry_out;  // raw odometry trajectory (loop closure on)
   std::filesystem::path events;        // JSON lines, one per LoopEvent
   std::filesystem::path save_map, load_map;
