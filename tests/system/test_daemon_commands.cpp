@@ -114,7 +114,8 @@ TEST_F(DaemonCommands, SaveMapWritesAMapTheMapStoreLoads) {
 // The `backend` section reaches the back-end thread: its keyframe selection and Scan Context
 // parameters are what the saved map holds.
 TEST_F(DaemonCommands, BackendParametersShapeTheSavedMap) {
-  const auto dir = TestDir("cmd-backend-config");
+  const test::TempDir temp_dir("cmd-backend-config");
+  const std::filesystem::path dir = temp_dir.path();
   const sim::Simulator simulator = SmallSimulator(8);
   backend::BackendParameters backend_config;
   backend_config.loop_closing.keyframes.min_distance = 1000.0;  // only the first scan

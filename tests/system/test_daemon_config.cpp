@@ -53,7 +53,8 @@ TEST(DaemonConfig, BackendSectionIsReadAndItsMistakesNameTheKey) {
       LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
   EXPECT_TRUE(shipped.backend == backend::BackendParameters{}) << "defaults unless set";
 
-  const auto file = test::TestDir("config-backend") / "backend.yaml";
+  const test::TempDir dir("config-backend");
+  const auto file = dir / "backend.yaml";
   std::ofstream(file) << "backend:\n  loop_closing:\n    scan_context:\n      max_range: 30.0\n"
                          "  localizer:\n    track_max_rmse: 0.2\n";
   const FullConfig config = LoadConfig(file);
