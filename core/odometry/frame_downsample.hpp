@@ -1,8 +1,8 @@
 #pragma once
 #include <Eigen/Core>
+#include <tsl/robin_set.h>
 #include <vector>
 
-#include "core/geometry/first_per_cell.hpp"
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/voxel.hpp"
 
@@ -18,7 +18,7 @@ class ClassVoxelSampler {
                                   const std::vector<PointClass>& labels, double voxel_size);
 
  private:
-  FirstPerCell<ClassVoxel, ClassVoxelHash> first_;
+  tsl::robin_set<ClassVoxel, ClassVoxelHash> seen_;
 };
 
 }  // namespace dammloam

@@ -1,6 +1,5 @@
 #include "core/registration/correspondences.hpp"
 
-#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <tbb/blocked_range.h>
@@ -31,7 +30,7 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
                                       const VoxelHashMap& map, double max_distance,
                                       RegistrationMode mode, bool unknown_defers_to_map) {
   const std::size_t n = source_world.size();
-  std::vector<Correspondence> found(n);
+  std::vector<const MapPoint*> match(n, nullptr);
   std::vector<PairKind> kind(n, PairKind::kNone);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -42,18 +41,16 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
           any_class ? std::nullopt : std::optional<PointClass>(label);
       const MapPoint* q = map.ClosestNeighbour(source_world[i], wanted, max_distance);
       if (q == nullptr) continue;
-      found[i] = {source_world[i], q->position, q->normal.cast<double>().normalized()};
+      match[i] = q;
       kind[i] = Classify(mode, label, *q);
     }
   });
-  // The pairs are built on all cores above; only the split into the two kinds is serial.
-  const auto planar = static_cast<std::size_t>(std::count(kind.begin(), kind.end(), PairKind::kPlanar));
   CorrespondenceSet out;
-  out.planar.reserve(planar);
-  out.point.reserve(n - planar);
   for (std::size_t i = 0; i < n; ++i) {
     if (kind[i] == PairKind::kNone) continue;
-    (kind[i] == PairKind::kPlanar ? out.planar : out.point).push_back(found[i]);
+    const Correspondence c{source_world[i], match[i]->position,
+                           match[i]->normal.cast<double>().normalized()};
+    (kind[i] == PairKind::kPlanar ? out.planar : out.point).push_back(c);
   }
   return out;
 }

@@ -4,7 +4,6 @@
 
 #include <random>
 
-#include "core/geometry/first_per_cell.hpp"
 #include "core/geometry/voxel.hpp"
 
 namespace dammloam {
@@ -51,35 +50,6 @@ TEST(VoxelDownsample, OnePointPerVoxelFirstComeDeterministic) {
   // Negative coordinates: floor, not truncation, so -0.5 and 0.5 are different voxels.
   EXPECT_EQ(VoxelDownsample({{-0.5, 0, 0}, {0.5, 0, 0}}, 1.0).size(), 2u);
   EXPECT_EQ(PointToVoxel({-0.5, 0.5, -1.0}, 1.0), Voxel(-1, 0, -1));
-}
-
-// The parallel selection must return exactly what the serial "first point of a new cell" loop
-// returns, runs of one cell included (they take the consecutive-duplicate shortcut).
-TEST(FirstPerCell, EqualsTheSerialFirstComeLoop) {
-  const LabelledPoints cloud = Cloud(7);
-  std::vector<Eigen::Vector3d> points = cloud.points;
-  for (std::size_t i = 0; i < 2000; ++i) points.push_back(points[i / 4]);  // runs and repeats
-  const double voxel = 0.37;
-  auto cell_of = [&](std::size_t i) {
-    return ClassVoxel{PointToVoxel(points[i], voxel), i < cloud.labels.size()
-                                                          ? cloud.labels[i]
-                                                          : cloud.labels[(i - cloud.labels.size()) / 4]};
-  };
-  std::vector<std::size_t> serial;
-  tsl::robin_set<ClassVoxel, ClassVoxelHash> seen;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (seen.insert(cell_of(i)).second) serial.push_back(i);
-  }
-  FirstPerCell<ClassVoxel, ClassVoxelHash> first;
-  EXPECT_EQ(first.Select(points.size(), cell_of), serial);
-  // The tables are reused: a second, smaller call must not see the first one's cells.
-  const std::size_t half = points.size() / 2;
-  std::vector<std::size_t> serial_half;
-  for (std::size_t i : serial) {
-    if (i < half) serial_half.push_back(i);
-  }
-  EXPECT_EQ(first.Select(half, cell_of), serial_half);
-  EXPECT_GT(serial.size(), 1000u);
 }
 
 TEST(ClassAwareDownsampler, KeepsOnePointPerVoxelPerClass) {
