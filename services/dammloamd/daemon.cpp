@@ -131,7 +131,7 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
                       dds::OdometryQos()),
       labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, config.topics.labelled_cloud,
                       dds::LabelledCloudQos()),
-      status_topic_(participant_, dammloam_msg_Status_desc, config.topics.status,
+      status_topic_(participant_, dammloam_msg_DaemonStatus_desc, config.topics.status,
                     dds::StatusQos()),
       points_reader_(participant_, points_topic_,
                      {config.input_reliable, config.input_depth, false}),
@@ -525,7 +525,7 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   const StatusSnapshot s = stats_.Snapshot();
   std::vector<dammloam_msg_ReasonCount> counts = ReasonCounts(s.by_reason);
   std::vector<dammloam_msg_ReasonCount> refused = ReasonCounts(s.refused_by_reason);
-  dammloam_msg_Status msg{};
+  dammloam_msg_DaemonStatus msg{};
   msg.header.stamp = dds::ToMsgTime(std::chrono::duration<double>(
       std::chrono::system_clock::now().time_since_epoch()).count());
   msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());

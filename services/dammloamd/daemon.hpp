@@ -131,7 +131,7 @@ class Daemon {
   dds::Reader<dammloam_msg_PointCloud> points_reader_;
   dds::Writer<dammloam_msg_Odometry> odometry_writer_;
   dds::Writer<dammloam_msg_LabelledCloud> labelled_writer_;
-  dds::Writer<dammloam_msg_Status> status_writer_;
+  dds::Writer<dammloam_msg_DaemonStatus> status_writer_;
   dds::WaitSet waitset_;
   std::mutex status_mutex_;
   std::uint64_t status_seq_ = 0;

@@ -9,7 +9,7 @@
 
 namespace dammloam::daemon {
 
-// The stages whose caught exceptions are counted apart (Status.*_errors).
+// The stages whose caught exceptions are counted apart (DaemonStatus.*_errors).
 enum class Stage { kReceive, kPublish, kBackend };
 const char* Name(Stage stage);
 

@@ -48,7 +48,7 @@ struct ReceivedStatus {
   std::string loop_closure;
 };
 
-inline ReceivedStatus CopyStatus(const dammloam_msg_Status& m) {
+inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
   ReceivedStatus s{m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
                    m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
                    m.publish_errors, m.backend_errors, m.loop_closure};
@@ -77,7 +77,8 @@ class DdsTestClient {
         points_topic_(participant_, dammloam_msg_PointCloud_desc, topics.points, dds::PointsQos()),
         odometry_topic_(participant_, dammloam_msg_Odometry_desc, topics.odometry,
                         dds::OdometryQos()),
-        status_topic_(participant_, dammloam_msg_Status_desc, topics.status, dds::StatusQos()),
+        status_topic_(participant_, dammloam_msg_DaemonStatus_desc, topics.status,
+                      dds::StatusQos()),
         labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, topics.labelled_cloud,
                         dds::LabelledCloudQos()),
         points_(participant_, points_topic_, dds::PointsQos(16)),  // bursts reach the daemon whole
@@ -105,7 +106,7 @@ class DdsTestClient {
       poses.push_back({m.header.stamp, m.input_seq, dds::FromMsgPose(m.pose), m.registered,
                        m.status});
     }, 64);
-    status_.TakeEach([this](const dammloam_msg_Status& m, const dds_sample_info_t&) {
+    status_.TakeEach([this](const dammloam_msg_DaemonStatus& m, const dds_sample_info_t&) {
       statuses.push_back(CopyStatus(m));
     }, 64);
     labelled_.TakeEach([this](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {
@@ -166,7 +167,7 @@ class DdsTestClient {
   dds::Topic points_topic_, odometry_topic_, status_topic_, labelled_topic_;
   dds::Writer<dammloam_msg_PointCloud> points_;
   dds::Reader<dammloam_msg_Odometry> odometry_;
-  dds::Reader<dammloam_msg_Status> status_;
+  dds::Reader<dammloam_msg_DaemonStatus> status_;
   dds::Reader<dammloam_msg_LabelledCloud> labelled_;
 };
 
