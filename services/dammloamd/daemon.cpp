@@ -74,6 +74,7 @@ class LoopClosureStage {
  public:
   bool Failed() const { return false; }
   void Start() {}
+  void WatchEndpoints(dds::MiddlewareWatch&) const {}
   void Stop() {}
   void AddScan(const OdometryResult&) {}
 };
@@ -162,6 +163,18 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
                     [this](const std::string& reason, const std::string& message) {
                       CommandRefused(reason, message);
                     }});
+  middleware_.Watch(points_reader_);
+  middleware_.Watch(odometry_writer_);
+  middleware_.Watch(labelled_writer_);
+  middleware_.Watch(status_writer_);
+  if (ros2_) {
+    middleware_.Watch(ros2_->points_reader);
+    middleware_.Watch(ros2_->odometry_writer);
+    middleware_.Watch(ros2_->labelled_writer);
+    if (ros2_->tf_writer) middleware_.Watch(*ros2_->tf_writer);
+  }
+  if (loop_closure_) loop_closure_->WatchEndpoints(middleware_);
+  commands_->WatchEndpoints(middleware_);
 }
 
 Daemon::~Daemon() { Stop(); }
@@ -185,6 +198,7 @@ void Daemon::Stop() {
   commands_->Stop();  // before the back-end: a save_map in work waits for the back-end thread
   if (loop_closure_) loop_closure_->Stop();
   SaveOnShutdown();
+  ReportMiddlewareDrops();
   PublishStatus(false, dammloam_msg_STATE_STOPPING);
 }
 
@@ -338,6 +352,7 @@ void Daemon::PublishLoop() {
         registered_.Pop(std::chrono::milliseconds(50), [](RegisteredScan&&) {});
     try {
       if (item) Publish(*item);
+      ReportMiddlewareDrops();
       if (std::chrono::steady_clock::now() >= next_status) {
         PublishStatus(false, RunningState());
         next_status += period;
@@ -496,6 +511,15 @@ void Daemon::InjectFault(Stage stage) const {
   if (fault_) fault_(stage);
 }
 
+void Daemon::ReportMiddlewareDrops() {
+  const std::vector<dds::MiddlewareEvent> events = middleware_.Poll();
+  for (const dds::MiddlewareEvent& event : events) {
+    spdlog::error("{}", event.Describe());
+    stats_.MiddlewareDropped(event);
+  }
+  if (!events.empty()) PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+}
+
 void Daemon::StageFailed(Stage stage, const std::string& message) {
   spdlog::error("{}", message);
   stats_.StageFailed(stage, message);
@@ -525,6 +549,7 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   const StatusSnapshot s = stats_.Snapshot();
   std::vector<dammloam_msg_ReasonCount> counts = ReasonCounts(s.by_reason);
   std::vector<dammloam_msg_ReasonCount> refused = ReasonCounts(s.refused_by_reason);
+  std::vector<dammloam_msg_ReasonCount> middleware = ReasonCounts(s.middleware_by_reason);
   dammloam_msg_DaemonStatus msg{};
   msg.header.stamp = dds::ToMsgTime(std::chrono::duration<double>(
       std::chrono::system_clock::now().time_since_epoch()).count());
@@ -554,6 +579,13 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.publish_errors = s.publish_errors;
   msg.backend_errors = s.backend_errors;
   msg.loop_closure = const_cast<char*>(LoopClosureState());
+  msg.samples_lost = s.samples_lost;
+  msg.samples_rejected = s.samples_rejected;
+  msg.samples_undeserializable = s.samples_undeserializable;
+  msg.incompatible_qos = s.incompatible_qos;
+  msg.middleware_by_reason._buffer = middleware.data();
+  msg.middleware_by_reason._length = msg.middleware_by_reason._maximum =
+      static_cast<std::uint32_t>(middleware.size());
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

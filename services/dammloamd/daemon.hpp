@@ -23,6 +23,7 @@
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dammloamd/stage_queue.hpp"
 #include "services/dds/dds.hpp"
+#include "services/dds/middleware_watch.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "sensor_msgs.h"
 
@@ -94,6 +95,9 @@ class Daemon {
   const std::string& Ros2SensorFrame(const ScanMeta& meta) const;
   std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
+  // Counts what DDS dropped since the last call (publish thread, and Stop() after it ended);
+  // one Status error event if anything was.
+  void ReportMiddlewareDrops();
   std::uint8_t RunningState() const;
   const char* LoopClosureState() const;
   void InjectFault(Stage stage) const;
@@ -144,6 +148,8 @@ class Daemon {
   std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
   std::unique_ptr<MapLocalization> localization_;    // null: built without the back-end
   std::unique_ptr<CommandStage> commands_;
+  // Every reader and writer above; polled by the publish thread (ReportMiddlewareDrops).
+  dds::MiddlewareWatch middleware_;
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;
 };

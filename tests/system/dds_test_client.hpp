@@ -46,14 +46,22 @@ struct ReceivedStatus {
   std::map<std::string, std::uint64_t> refused_by_reason;
   std::uint64_t receive_errors = 0, publish_errors = 0, backend_errors = 0;
   std::string loop_closure;
+  std::uint64_t samples_lost = 0, samples_rejected = 0, samples_undeserializable = 0,
+                incompatible_qos = 0;
+  std::map<std::string, std::uint64_t> middleware_by_reason;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
   ReceivedStatus s{m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
                    m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
-                   m.publish_errors, m.backend_errors, m.loop_closure};
+                   m.publish_errors, m.backend_errors, m.loop_closure, m.samples_lost,
+                   m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {}};
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;
+  }
+  for (std::uint32_t i = 0; i < m.middleware_by_reason._length; ++i) {
+    const auto& r = m.middleware_by_reason._buffer[i];
+    s.middleware_by_reason[r.reason] = r.count;
   }
   return s;
 }

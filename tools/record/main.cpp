@@ -61,7 +61,11 @@ nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
           {"is_error_event", s.is_error_event}, {"commands_refused", s.commands_refused},
           {"refused_by_reason", ReasonsJson(s.refused_by_reason)},
           {"receive_errors", s.receive_errors}, {"publish_errors", s.publish_errors},
-          {"backend_errors", s.backend_errors}, {"loop_closure", s.loop_closure}};
+          {"backend_errors", s.backend_errors}, {"loop_closure", s.loop_closure},
+          {"samples_lost", s.samples_lost}, {"samples_rejected", s.samples_rejected},
+          {"samples_undeserializable", s.samples_undeserializable},
+          {"incompatible_qos", s.incompatible_qos},
+          {"middleware_by_reason", ReasonsJson(s.middleware_by_reason)}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {
