@@ -18,6 +18,7 @@
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dds/dds.hpp"
+#include "services/dds/middleware_watch.hpp"
 
 namespace dammloam::daemon {
 
@@ -31,6 +32,8 @@ class LoopClosureStage {
                    std::function<void(const std::string&)> on_failure, FaultInjector fault = {});
 
   void Start();
+  // Lets `watch` report what DDS drops on this stage's LoopClosure writer.
+  void WatchEndpoints(dds::MiddlewareWatch& watch) const { watch.Watch(writer_); }
   // Joins the thread; save requests already queued are carried out first.
   void Stop();
   void AddScan(const OdometryResult& result);

@@ -12,7 +12,7 @@
 
 namespace dammloam::daemon {
 
-// Refusal reasons, as counted in Status.refused_by_reason.
+// Refusal reasons, as counted in DaemonStatus.refused_by_reason.
 inline constexpr const char* kRefusedDisabled = "disabled";
 inline constexpr const char* kRefusedUnknownSender = "unknown_sender";
 inline constexpr const char* kRefusedWrongToken = "wrong_token";

@@ -14,6 +14,7 @@
 #include "services/dammloamd/command_gate.hpp"
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dds/dds.hpp"
+#include "services/dds/middleware_watch.hpp"
 
 namespace dammloam::daemon {
 
@@ -49,6 +50,11 @@ class CommandStage {
   CommandStage& operator=(const CommandStage&) = delete;
 
   void Start();
+  // Lets `watch` report what DDS drops on the Command reader and the CommandReply writer.
+  void WatchEndpoints(dds::MiddlewareWatch& watch) const {
+    watch.Watch(reader_);
+    watch.Watch(writer_);
+  }
   // Waits for the command in work (if any) to finish and be answered.
   void Stop();
 

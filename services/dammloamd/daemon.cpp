@@ -114,7 +114,7 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
                       dds::OdometryQos()),
       labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, config.topics.labelled_cloud,
                       dds::LabelledCloudQos()),
-      status_topic_(participant_, dammloam_msg_Status_desc, config.topics.status,
+      status_topic_(participant_, dammloam_msg_DaemonStatus_desc, config.topics.status,
                     dds::StatusQos()),
       points_reader_(participant_, points_topic_,
                      {config.input_reliable, config.input_depth, false}),
@@ -143,6 +143,18 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
                     [this](const std::string& reason, const std::string& message) {
                       CommandRefused(reason, message);
                     }});
+  middleware_.Watch(points_reader_);
+  middleware_.Watch(odometry_writer_);
+  middleware_.Watch(labelled_writer_);
+  middleware_.Watch(status_writer_);
+  if (ros2_) {
+    middleware_.Watch(ros2_->points_reader);
+    middleware_.Watch(ros2_->odometry_writer);
+    middleware_.Watch(ros2_->labelled_writer);
+    if (ros2_->tf_writer) middleware_.Watch(*ros2_->tf_writer);
+  }
+  if (loop_closure_) loop_closure_->WatchEndpoints(middleware_);
+  commands_->WatchEndpoints(middleware_);
 }
 
 Daemon::~Daemon() { Stop(); }
@@ -166,6 +178,7 @@ void Daemon::Stop() {
   commands_->Stop();  // before the back-end: a save_map in work waits for the back-end thread
   if (loop_closure_) loop_closure_->Stop();
   SaveOnShutdown();
+  ReportMiddlewareDrops();
   PublishStatus(false, dammloam_msg_STATE_STOPPING);
 }
 
@@ -319,6 +332,7 @@ void Daemon::PublishLoop() {
         registered_.Pop(std::chrono::milliseconds(50), [](RegisteredScan&&) {});
     try {
       if (item) Publish(*item);
+      ReportMiddlewareDrops();
       if (std::chrono::steady_clock::now() >= next_status) {
         PublishStatus(false, RunningState());
         next_status += period;
@@ -460,6 +474,15 @@ void Daemon::InjectFault(Stage stage) const {
   if (fault_) fault_(stage);
 }
 
+void Daemon::ReportMiddlewareDrops() {
+  const std::vector<dds::MiddlewareEvent> events = middleware_.Poll();
+  for (const dds::MiddlewareEvent& event : events) {
+    spdlog::error("{}", event.Describe());
+    stats_.MiddlewareDropped(event);
+  }
+  if (!events.empty()) PublishStatus(true, dammloam_msg_STATE_DEGRADED);
+}
+
 void Daemon::StageFailed(Stage stage, const std::string& message) {
   spdlog::error("{}", message);
   stats_.StageFailed(stage, message);
@@ -487,7 +510,8 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   const StatusSnapshot s = stats_.Snapshot();
   std::vector<dammloam_msg_ReasonCount> counts = ReasonCounts(s.by_reason);
   std::vector<dammloam_msg_ReasonCount> refused = ReasonCounts(s.refused_by_reason);
-  dammloam_msg_Status msg{};
+  std::vector<dammloam_msg_ReasonCount> middleware = ReasonCounts(s.middleware_by_reason);
+  dammloam_msg_DaemonStatus msg{};
   msg.header.stamp = dds::ToMsgTime(std::chrono::duration<double>(
       std::chrono::system_clock::now().time_since_epoch()).count());
   msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
@@ -516,6 +540,13 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.publish_errors = s.publish_errors;
   msg.backend_errors = s.backend_errors;
   msg.loop_closure = const_cast<char*>(LoopClosureState());
+  msg.samples_lost = s.samples_lost;
+  msg.samples_rejected = s.samples_rejected;
+  msg.samples_undeserializable = s.samples_undeserializable;
+  msg.incompatible_qos = s.incompatible_qos;
+  msg.middleware_by_reason._buffer = middleware.data();
+  msg.middleware_by_reason._length = msg.middleware_by_reason._maximum =
+      static_cast<std::uint32_t>(middleware.size());
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

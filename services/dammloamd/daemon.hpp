@@ -23,6 +23,7 @@
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dammloamd/stage_queue.hpp"
 #include "services/dds/dds.hpp"
+#include "services/dds/middleware_watch.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "sensor_msgs.h"
 
@@ -96,6 +97,9 @@ class Daemon {
   const std::string& Ros2SensorFrame(const ScanMeta& meta) const;
   std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
+  // Counts what DDS dropped since the last call (publish thread, and Stop() after it ended);
+  // one Status error event if anything was.
+  void ReportMiddlewareDrops();
   std::uint8_t RunningState() const;
   const char* LoopClosureState() const;
   void InjectFault(Stage stage) const;
@@ -133,7 +137,7 @@ class Daemon {
   dds::Reader<dammloam_msg_PointCloud> points_reader_;
   dds::Writer<dammloam_msg_Odometry> odometry_writer_;
   dds::Writer<dammloam_msg_LabelledCloud> labelled_writer_;
-  dds::Writer<dammloam_msg_Status> status_writer_;
+  dds::Writer<dammloam_msg_DaemonStatus> status_writer_;
   dds::WaitSet waitset_;
   std::mutex status_mutex_;
   std::uint64_t status_seq_ = 0;
@@ -146,6 +150,8 @@ class Daemon {
   std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
   std::unique_ptr<MapLocalization> localization_;    // never null
   std::unique_ptr<CommandStage> commands_;
+  // Every reader and writer above; polled by the publish thread (ReportMiddlewareDrops).
+  dds::MiddlewareWatch middleware_;
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;
 };

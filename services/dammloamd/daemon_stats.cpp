@@ -76,6 +76,23 @@ void DaemonStats::StageFailed(Stage stage, const std::string& message) {
   NoteError(message);
 }
 
+void DaemonStats::MiddlewareDropped(const dds::MiddlewareEvent& event) {
+  std::lock_guard lock(mutex_);
+  switch (event.kind) {
+    case dds::DropKind::kSampleLost: counters_.samples_lost += event.count; break;
+    case dds::DropKind::kSampleRejected: counters_.samples_rejected += event.count; break;
+    case dds::DropKind::kUndeserializable:
+      counters_.samples_undeserializable += event.count;
+      break;
+    case dds::DropKind::kRequestedIncompatibleQos:
+    case dds::DropKind::kOfferedIncompatibleQos:
+      counters_.incompatible_qos += event.count;
+      break;
+  }
+  counters_.middleware_by_reason[event.Reason()] += event.count;
+  NoteError(event.Describe());
+}
+
 void DaemonStats::NoteError(const std::string& message) {
   ++counters_.errors;
   counters_.last_error = message;

@@ -7,9 +7,11 @@
 #include <mutex>
 #include <string>
 
+#include "services/dds/middleware_watch.hpp"
+
 namespace dammloam::daemon {
 
-// The stages whose caught exceptions are counted apart (Status.*_errors).
+// The stages whose caught exceptions are counted apart (DaemonStatus.*_errors).
 enum class Stage { kReceive, kPublish, kBackend };
 const char* Name(Stage stage);
 
@@ -23,6 +25,10 @@ struct StatusSnapshot {
   std::uint64_t commands_refused = 0;
   std::map<std::string, std::uint64_t> refused_by_reason;
   std::uint64_t receive_errors = 0, publish_errors = 0, backend_errors = 0;
+  // What DDS dropped (dds::DropKind); incompatible_qos = requested + offered.
+  std::uint64_t samples_lost = 0, samples_rejected = 0, samples_undeserializable = 0,
+                incompatible_qos = 0;
+  std::map<std::string, std::uint64_t> middleware_by_reason;  // dds::MiddlewareEvent::Reason()
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -40,6 +46,8 @@ class DaemonStats {
   void CommandRefused(const std::string& reason, const std::string& message);
   // An exception caught in a stage (an error too).
   void StageFailed(Stage stage, const std::string& message);
+  // Something DDS dropped (an error too, last_error = event.Describe()).
+  void MiddlewareDropped(const dds::MiddlewareEvent& event);
   StatusSnapshot Snapshot() const;
 
  private:

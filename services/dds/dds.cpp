@@ -83,7 +83,8 @@ void WriterBase::WriteRaw(const void* sample, const char* topic_name) const {
 
 ReaderBase::ReaderBase(const Participant& participant, const Topic& topic, const TopicQos& qos)
     : Entity(Check(dds_create_reader(participant.handle(), topic.handle(), Qos(qos).get(), nullptr),
-                   "creating a reader for '" + topic.name() + "'")) {}
+                   "creating a reader for '" + topic.name() + "'")),
+      topic_name_(topic.name()) {}
 
 int ReaderBase::MatchedWriters() const {
   dds_subscription_matched_status_t status{};

@@ -73,6 +73,7 @@ class Topic : public Entity {
 class WriterBase : public Entity {
  public:
   WriterBase(const Participant& participant, const Topic& topic, const TopicQos& qos);
+  const std::string& topic_name() const { return topic_name_; }
   int MatchedReaders() const;
   // Blocks until at least `count` readers matched; false on timeout.
   bool WaitForReaders(int count, std::chrono::milliseconds timeout) const;
@@ -93,12 +94,16 @@ class Writer : public WriterBase {
 class ReaderBase : public Entity {
  public:
   ReaderBase(const Participant& participant, const Topic& topic, const TopicQos& qos);
+  const std::string& topic_name() const { return topic_name_; }
   int MatchedWriters() const;
 
  protected:
   // Takes up to `max` loaned samples; returns how many; samples/infos filled.
   int TakeLoans(void** samples, dds_sample_info_t* infos, int max) const;
   void ReturnLoans(void** samples, int count) const;
+
+ private:
+  std::string topic_name_;
 };
 
 template <typename T>

@@ -2,13 +2,13 @@
 
 namespace dammloam::dds {
 
-dammloam_msg_Pose ToMsgPose(const Eigen::Isometry3d& T) {
+dammloam_msg_Pose3D ToMsgPose(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.rotation());
   const Eigen::Vector3d t = T.translation();
   return {{t.x(), t.y(), t.z()}, {q.x(), q.y(), q.z(), q.w()}};
 }
 
-Eigen::Isometry3d FromMsgPose(const dammloam_msg_Pose& pose) {
+Eigen::Isometry3d FromMsgPose(const dammloam_msg_Pose3D& pose) {
   const auto& o = pose.orientation;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(o.w, o.x, o.y, o.z).normalized().toRotationMatrix();

@@ -8,8 +8,8 @@
 
 namespace dammloam::dds {
 
-dammloam_msg_Pose ToMsgPose(const Eigen::Isometry3d& T);
-Eigen::Isometry3d FromMsgPose(const dammloam_msg_Pose& pose);
+dammloam_msg_Pose3D ToMsgPose(const Eigen::Isometry3d& T);
+Eigen::Isometry3d FromMsgPose(const dammloam_msg_Pose3D& pose);
 
 // Fills everything the result knows. String members point into the given strings, which must
 // outlive the sample; stamp/seq/latency are the caller's.

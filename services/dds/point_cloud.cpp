@@ -87,7 +87,7 @@ bool IsFloat(std::uint8_t datatype) {
 }
 
 struct Problem {
-  std::string code;     // short machine-readable category (Status.rejected_by_reason)
+  std::string code;     // short machine-readable category (DaemonStatus.rejected_by_reason)
   std::string message;  // empty when there is no problem
 };
 

@@ -8,7 +8,7 @@ namespace dammloam::dds {
 namespace {
 
 geometry_msgs_msg_dds__Pose_ ToRos2Pose(const Eigen::Isometry3d& T) {
-  const dammloam_msg_Pose p = ToMsgPose(T);
+  const dammloam_msg_Pose3D p = ToMsgPose(T);
   return {{p.position.x, p.position.y, p.position.z},
           {p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w}};
 }

@@ -46,14 +46,22 @@ struct ReceivedStatus {
   std::map<std::string, std::uint64_t> refused_by_reason;
   std::uint64_t receive_errors = 0, publish_errors = 0, backend_errors = 0;
   std::string loop_closure;
+  std::uint64_t samples_lost = 0, samples_rejected = 0, samples_undeserializable = 0,
+                incompatible_qos = 0;
+  std::map<std::string, std::uint64_t> middleware_by_reason;
 };
 
-inline ReceivedStatus CopyStatus(const dammloam_msg_Status& m) {
+inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
   ReceivedStatus s{m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
                    m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
-                   m.publish_errors, m.backend_errors, m.loop_closure};
+                   m.publish_errors, m.backend_errors, m.loop_closure, m.samples_lost,
+                   m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {}};
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;
+  }
+  for (std::uint32_t i = 0; i < m.middleware_by_reason._length; ++i) {
+    const auto& r = m.middleware_by_reason._buffer[i];
+    s.middleware_by_reason[r.reason] = r.count;
   }
   return s;
 }
@@ -77,7 +85,8 @@ class DdsTestClient {
         points_topic_(participant_, dammloam_msg_PointCloud_desc, topics.points, dds::PointsQos()),
         odometry_topic_(participant_, dammloam_msg_Odometry_desc, topics.odometry,
                         dds::OdometryQos()),
-        status_topic_(participant_, dammloam_msg_Status_desc, topics.status, dds::StatusQos()),
+        status_topic_(participant_, dammloam_msg_DaemonStatus_desc, topics.status,
+                      dds::StatusQos()),
         labelled_topic_(participant_, dammloam_msg_LabelledCloud_desc, topics.labelled_cloud,
                         dds::LabelledCloudQos()),
         points_(participant_, points_topic_, dds::PointsQos(16)),  // bursts reach the daemon whole
@@ -105,7 +114,7 @@ class DdsTestClient {
       poses.push_back({m.header.stamp, m.input_seq, dds::FromMsgPose(m.pose), m.registered,
                        m.status});
     }, 64);
-    status_.TakeEach([this](const dammloam_msg_Status& m, const dds_sample_info_t&) {
+    status_.TakeEach([this](const dammloam_msg_DaemonStatus& m, const dds_sample_info_t&) {
       statuses.push_back(CopyStatus(m));
     }, 64);
     labelled_.TakeEach([this](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {
@@ -166,7 +175,7 @@ class DdsTestClient {
   dds::Topic points_topic_, odometry_topic_, status_topic_, labelled_topic_;
   dds::Writer<dammloam_msg_PointCloud> points_;
   dds::Reader<dammloam_msg_Odometry> odometry_;
-  dds::Reader<dammloam_msg_Status> status_;
+  dds::Reader<dammloam_msg_DaemonStatus> status_;
   dds::Reader<dammloam_msg_LabelledCloud> labelled_;
 };
 

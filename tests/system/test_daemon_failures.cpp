@@ -1,6 +1,6 @@
 // Failures caught inside dammloamd's stages are counted in Status and published as error events,
 // not only logged (loopback DDS, own domain per test). Failures are injected through the
-// daemon's test seam (FaultInjector): a back-end pass that throws turns Status.loop_closure to
+// daemon's test seam (FaultInjector): a back-end pass that throws turns DaemonStatus.loop_closure to
 // "failed" and the state to DEGRADED while poses keep coming; a receive and a publish failure
 // each cost one scan, are counted once, and tracking goes on.
 #include <gtest/gtest.h>

@@ -25,14 +25,14 @@ struct Endpoints {
   dds::Topic points_topic, odometry_topic, status_topic;
   dds::Writer<dammloam_msg_PointCloud> points;
   dds::Reader<dammloam_msg_Odometry> odometry;
-  dds::Reader<dammloam_msg_Status> status;
+  dds::Reader<dammloam_msg_DaemonStatus> status;
 
   explicit Endpoints(std::uint32_t domain, const dds::TopicNames& names = {})
       : participant(static_cast<dds_domainid_t>(domain)),
         points_topic(participant, dammloam_msg_PointCloud_desc, names.points, dds::PointsQos()),
         odometry_topic(participant, dammloam_msg_Odometry_desc, names.odometry,
                        dds::OdometryQos()),
-        status_topic(participant, dammloam_msg_Status_desc, names.status, dds::StatusQos()),
+        status_topic(participant, dammloam_msg_DaemonStatus_desc, names.status, dds::StatusQos()),
         points(participant, points_topic, dds::PointsQos()),
         // Volatile: a pose latched from an earlier run must not count as this run's.
         odometry(participant, odometry_topic, {true, 1000, false}),
@@ -133,7 +133,7 @@ void CollectRemaining(const Endpoints& dds, PoseCollector& poses, std::size_t se
   }
 }
 
-DaemonCounters CountersOf(const dammloam_msg_Status& s) {
+DaemonCounters CountersOf(const dammloam_msg_DaemonStatus& s) {
   DaemonCounters c{s.scans_received, s.scans_processed, s.scans_dropped, s.scans_rejected, {}};
   for (std::uint32_t i = 0; i < s.rejected_by_reason._length; ++i) {
     const auto& reason = s.rejected_by_reason._buffer[i];
@@ -143,13 +143,14 @@ DaemonCounters CountersOf(const dammloam_msg_Status& s) {
 }
 
 // The first Status published after the run settled (older ones may predate the last scans).
-std::optional<DaemonCounters> FreshDaemonCounters(const dds::Reader<dammloam_msg_Status>& reader) {
-  reader.TakeEach([](const dammloam_msg_Status&, const dds_sample_info_t&) {});
+std::optional<DaemonCounters> FreshDaemonCounters(
+    const dds::Reader<dammloam_msg_DaemonStatus>& reader) {
+  reader.TakeEach([](const dammloam_msg_DaemonStatus&, const dds_sample_info_t&) {});
   std::optional<DaemonCounters> counters;
   const auto deadline = Clock::now() + kStatusWait;
   while (!counters && Clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    reader.TakeEach([&](const dammloam_msg_Status& s, const dds_sample_info_t&) {
+    reader.TakeEach([&](const dammloam_msg_DaemonStatus& s, const dds_sample_info_t&) {
       counters = CountersOf(s);
     });
   }

@@ -50,7 +50,7 @@ nlohmann::json ReasonsJson(const dds_sequence_dammloam_msg_ReasonCount& counts) 
   return reasons;
 }
 
-nlohmann::json StatusJson(const dammloam_msg_Status& s) {
+nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
   const nlohmann::json reasons = ReasonsJson(s.rejected_by_reason);
   return {{"type", "status"}, {"stamp", Stamp(s.header.stamp)}, {"node", s.node},
           {"state", s.state}, {"received", s.scans_received}, {"processed", s.scans_processed},
@@ -61,7 +61,11 @@ nlohmann::json StatusJson(const dammloam_msg_Status& s) {
           {"is_error_event", s.is_error_event}, {"commands_refused", s.commands_refused},
           {"refused_by_reason", ReasonsJson(s.refused_by_reason)},
           {"receive_errors", s.receive_errors}, {"publish_errors", s.publish_errors},
-          {"backend_errors", s.backend_errors}, {"loop_closure", s.loop_closure}};
+          {"backend_errors", s.backend_errors}, {"loop_closure", s.loop_closure},
+          {"samples_lost", s.samples_lost}, {"samples_rejected", s.samples_rejected},
+          {"samples_undeserializable", s.samples_undeserializable},
+          {"incompatible_qos", s.incompatible_qos},
+          {"middleware_by_reason", ReasonsJson(s.middleware_by_reason)}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {
@@ -93,12 +97,13 @@ int Run(const Options& o) {
   dds::Participant participant(static_cast<dds_domainid_t>(o.domain));
   dds::Topic odometry_topic(participant, dammloam_msg_Odometry_desc, o.topics.odometry,
                             dds::OdometryQos());
-  dds::Topic status_topic(participant, dammloam_msg_Status_desc, o.topics.status, dds::StatusQos());
+  dds::Topic status_topic(participant, dammloam_msg_DaemonStatus_desc, o.topics.status,
+                          dds::StatusQos());
   dds::Topic loop_topic(participant, dammloam_msg_LoopClosure_desc, o.topics.loop_closure,
                         dds::LoopClosureQos());
   // A deep history so no pose is lost while this thread writes files.
   dds::Reader<dammloam_msg_Odometry> odometry(participant, odometry_topic, {true, 1000, true});
-  dds::Reader<dammloam_msg_Status> status(participant, status_topic, dds::StatusQos(16));
+  dds::Reader<dammloam_msg_DaemonStatus> status(participant, status_topic, dds::StatusQos(16));
   dds::Reader<dammloam_msg_LoopClosure> loops(participant, loop_topic, dds::LoopClosureQos());
   dds::WaitSet waitset(participant);
   waitset.Attach(odometry);
@@ -141,7 +146,7 @@ int Run(const Options& o) {
       if (events.is_open()) events << LoopJson(m).dump() << '\n' << std::flush;
     });
     if (events.is_open()) {
-      status.TakeEach([&](const dammloam_msg_Status& m, const dds_sample_info_t&) {
+      status.TakeEach([&](const dammloam_msg_DaemonStatus& m, const dds_sample_info_t&) {
         events << StatusJson(m).dump() << '\n' << std::flush;
       });
     }
