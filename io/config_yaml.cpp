@@ -25,6 +25,7 @@ void ReadPreprocess(Section s, PreprocessConfig& c) {
   Section ri = s.Child("range_image");
   ri.Get("rows", c.range_image.rows);
   ri.Get("cols", c.range_image.cols);
+  ri.Get("max_auto_cols", c.range_image.max_auto_cols);
   ri.Get("max_inherit_distance", c.range_image.max_inherit_distance);
   ri.RejectUnknownKeys();
   Section n = s.Child("normals");
@@ -138,6 +139,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(p.max_range > p.min_range, "preprocess.max_range", "must exceed min_range");
   Require(p.range_image.rows >= 0, "preprocess.range_image.rows", "must be >= 0");
   Require(p.range_image.cols >= 0, "preprocess.range_image.cols", "must be >= 0");
+  Require(p.range_image.max_auto_cols >= 0, "preprocess.range_image.max_auto_cols",
+          "must be >= 0");
   Require(p.range_image.max_inherit_distance >= 0.0, "preprocess.range_image.max_inherit_distance",
           "must be >= 0");
   Require(p.normals.min_incidence_deg > 0.0 && p.normals.min_incidence_deg < 90.0,

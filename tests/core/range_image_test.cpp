@@ -239,5 +239,21 @@ TEST(RangeImage, ConfigOverridesTheSensorGrid) {
   EXPECT_EQ(image.pixel_of(0), 3 * 16 + 8);
 }
 
+TEST(RangeImage, AutomaticColumnsAreTheSensorsUpToTheCap) {
+  SensorModel os1;
+  os1.rings = 64;
+  os1.columns = 1024;
+  SensorModel coarse = os1;
+  coarse.columns = 256;
+  RangeImageConfig config;  // cols 0: automatic
+  EXPECT_EQ(RangeImage(config, os1).cols(), 1024) << "no cap by default";
+  config.max_auto_cols = 512;
+  EXPECT_EQ(RangeImage(config, os1).cols(), 512);
+  EXPECT_EQ(RangeImage(config, coarse).cols(), 256);
+  config.cols = 2048;  // an explicit count is taken as it is
+  config.max_auto_cols = 512;
+  EXPECT_EQ(RangeImage(config, os1).cols(), 2048);
+}
+
 }  // namespace
 }  // namespace dammloam

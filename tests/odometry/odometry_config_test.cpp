@@ -35,6 +35,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
                    defaults.preprocess.normals.min_incidence_deg);
   EXPECT_DOUBLE_EQ(loaded.max_time_gap, defaults.max_time_gap);
   EXPECT_DOUBLE_EQ(loaded.threshold_range_factor, defaults.threshold_range_factor);
+  EXPECT_EQ(loaded.preprocess.range_image.max_auto_cols,
+            defaults.preprocess.range_image.max_auto_cols);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
@@ -56,6 +58,9 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("registration: {mode: icp}").find("registration.mode: unknown value 'icp'"),
             std::string::npos);
   EXPECT_NE(ErrorOf("map: {max_distance: -5}").find("map.max_distance"), std::string::npos);
+  EXPECT_NE(ErrorOf("preprocess: {range_image: {max_auto_cols: -1}}")
+                .find("preprocess.range_image.max_auto_cols"),
+            std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
   EXPECT_NE(ErrorOf("threshold_range_factor: -1").find("threshold_range_factor: must be >= 0"),
