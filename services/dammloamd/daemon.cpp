@@ -62,6 +62,13 @@ std::vector<dammloam_msg_ReasonCount> ReasonCounts(
   return out;
 }
 
+// An idlc sequence viewing `items` (no copy): valid while the vector is.
+template <typename Sequence, typename Item>
+void ViewAsSequence(std::vector<Item>& items, Sequence& sequence) {
+  sequence._buffer = items.data();
+  sequence._length = sequence._maximum = static_cast<std::uint32_t>(items.size());
+}
+
 }  // namespace
 
 struct Daemon::Ros2Endpoints {
@@ -521,9 +528,7 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.scans_processed = s.processed;
   msg.scans_dropped = s.dropped;
   msg.scans_rejected = s.rejected;
-  msg.rejected_by_reason._buffer = counts.data();
-  msg.rejected_by_reason._length = msg.rejected_by_reason._maximum =
-      static_cast<std::uint32_t>(counts.size());
+  ViewAsSequence(counts, msg.rejected_by_reason);
   msg.latency_median_ms = s.latency_median_ms;
   msg.latency_p95_ms = s.latency_p95_ms;
   msg.latency_p99_ms = s.latency_p99_ms;
@@ -533,9 +538,7 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.last_error_stamp = dds::ToMsgTime(s.last_error_wall_time);
   msg.is_error_event = error_event;
   msg.commands_refused = s.commands_refused;
-  msg.refused_by_reason._buffer = refused.data();
-  msg.refused_by_reason._length = msg.refused_by_reason._maximum =
-      static_cast<std::uint32_t>(refused.size());
+  ViewAsSequence(refused, msg.refused_by_reason);
   msg.receive_errors = s.receive_errors;
   msg.publish_errors = s.publish_errors;
   msg.backend_errors = s.backend_errors;
@@ -544,9 +547,7 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.samples_rejected = s.samples_rejected;
   msg.samples_undeserializable = s.samples_undeserializable;
   msg.incompatible_qos = s.incompatible_qos;
-  msg.middleware_by_reason._buffer = middleware.data();
-  msg.middleware_by_reason._length = msg.middleware_by_reason._maximum =
-      static_cast<std::uint32_t>(middleware.size());
+  ViewAsSequence(middleware, msg.middleware_by_reason);
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);
