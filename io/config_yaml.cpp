@@ -115,6 +115,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadMotionPrior(s.Child("motion_prior"), config);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
+  s.Get("interpolate_start_pose", config.interpolate_start_pose);
   s.Get("min_points", config.min_points);
   s.Get("max_time_gap", config.max_time_gap);
   s.Get("motion_model_max_deviation", config.motion_model_max_deviation);

@@ -303,6 +303,21 @@ RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const Registratio
   return RegisterSource(frame, Prior(dt, false));
 }
 
+// The scan start lies between the previous and this scan's middles, whose poses the data fixed;
+// interpolating there uses the motion measured across the start instead of the motion one scan
+// earlier. Causal: both poses are known when this scan's pose is published.
+Eigen::Isometry3d Odometry::StartPose(const Frame& frame, const Eigen::Isometry3d& T_mid,
+                                       bool first) const {
+  const Eigen::Isometry3d extrapolated = Normalized(T_mid * frame.T_mid_start);
+  // Without deskew a scan is taken as instantaneous at its start.
+  const bool deskewed = config_.deskew && frame.scan.scan.has_times();
+  if (!config_.interpolate_start_pose || !deskewed || first) return extrapolated;
+  const double half = 0.5 * sensor_.scan_period;
+  const double dt = frame.scan.scan.t_start - last_stamp_;
+  const double f = std::clamp((dt - half) / dt, 0.0, 1.0);
+  return Normalized(T_world_last_ * ExpSE3(f * LogSE3(T_world_last_.inverse() * T_mid)));
+}
+
 double Odometry::Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T) {
   return (T_pred.inverse() * T).translation().norm();
 }
@@ -355,12 +370,14 @@ void Odometry::InsertIntoMap(const ClassifiedScan& scan, const Eigen::Isometry3d
 OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,
                                 const Eigen::Isometry3d& T_new) {
   result.map_points = map_.NumPoints();
+  result.T_world_sensor =
+      StartPose(frame, T_new, result.status == OdometryStatus::kFirstScan);
   T_world_last_ = T_new;
   last_stamp_ = frame.scan.scan.t_start;
-  result.T_world_sensor = Normalized(T_new * frame.T_mid_start);
   last_start_pose_ = result.T_world_sensor;
   result.velocity = velocity_;
-  TransformScan(frame.T_mid_start.inverse(), frame.scan);  // reported in the start frame
+  // Reported in the start frame.
+  TransformScan(result.T_world_sensor.inverse() * T_new, frame.scan);
   const StageTimings& t = result.timings;
   result.timings.total_ms = t.projection_ms + t.normals_ms + t.classification_ms + t.deskew_ms +
                             t.downsample_ms + t.registration_ms + t.map_update_ms;

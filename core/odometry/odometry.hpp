@@ -80,6 +80,8 @@ class Odometry {
   RegistrationResult RegisterFrame(Frame& frame, double dt);
   RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior) const;
   RegistrationResult RedeskewAndRegister(Frame& frame, const RegistrationResult& first, double dt);
+  Eigen::Isometry3d StartPose(const Frame& frame, const Eigen::Isometry3d& T_mid,
+                              bool first) const;
   static double Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T);
   void Describe(const RegistrationResult& reg, OdometryResult& result);
   OdometryResult Unregistered(OdometryResult result, const Frame& frame) const;

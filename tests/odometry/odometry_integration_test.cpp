@@ -204,6 +204,33 @@ TEST(OdometryIntegration, TheCorrespondenceGateFollowsTheSceneSize) {
   EXPECT_LT(scene_scale.ape_rmse, 0.05);
 }
 
+// A walker's bob and a hand's shake change the velocity within a tenth of a second. The start
+// pose interpolated between two registered mid-scan poses follows that; extrapolating back from
+// one mid-scan pose with the previous scan's velocity puts its error into every pose.
+TEST(OdometryIntegration, InterpolatedStartPosesFollowAHandHeldWalk) {
+  const sim::Simulator simulator(*sim::FindPreset("handheld-corridor"), sim::Vlp16(), 2);
+  bench::SimSequence seq;
+  seq.model = simulator.sensor_model();
+  for (int i = 0; i < 120; ++i) {
+    seq.scans.push_back(simulator.SimulateScan(i));
+    const double t = simulator.ScanStartTime(i);
+    seq.ground_truth.push_back({t, simulator.PoseAt(t)});
+  }
+  auto run_with = [&](bool interpolate) {
+    OdometryConfig config;
+    config.interpolate_start_pose = interpolate;
+    return RunPipeline(seq, config);
+  };
+  const auto interpolated = run_with(true);
+  const auto extrapolated = run_with(false);
+  std::printf("RPE %.4f m interpolated, %.4f m extrapolated; APE %.4f / %.4f m\n",
+              interpolated.rpe_rmse, extrapolated.rpe_rmse, interpolated.ape_rmse,
+              extrapolated.ape_rmse);
+  ASSERT_EQ(interpolated.registered, seq.scans.size());
+  EXPECT_LT(interpolated.rpe_rmse, 0.7 * extrapolated.rpe_rmse);
+  EXPECT_LT(interpolated.ape_rmse, extrapolated.ape_rmse);
+}
+
 // A known rigid motion between two real-geometry scans (outdoor scene, 5 scans apart).
 TEST(OdometryIntegration, KnownMotionBetweenTwoScansIsRecovered) {
   // The simulated drive starts from rest: take two scans after the 2 s ramp-up.
