@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "tests/core/lidar_raycast.hpp"
+#include "tests/support/data_dir.hpp"
 
 namespace dammloam {
 namespace {
@@ -146,12 +147,7 @@ TEST(FeatureExtractor, ConcurrentCallsGiveIdenticalResults) {
 }
 
 // Real data: KITTI HDL-64E scans (x y z reflectance float32, no rings, no times).
-std::filesystem::path KittiDir() {
-  if (const char* env = std::getenv("DAMMLOAM_DATA_DIR")) {
-    return std::filesystem::path(env) / "kitti_hdl64_patchworkpp_6frames";
-  }
-  return std::filesystem::path(DAMMLOAM_SHARED_DATA_DIR) / "kitti_hdl64_patchworkpp_6frames";
-}
+std::filesystem::path KittiDir() { return test::DataDir() / "kitti_hdl64_patchworkpp_6frames"; }
 
 Scan ReadKittiBin(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -168,9 +164,7 @@ Scan ReadKittiBin(const std::filesystem::path& file) {
 
 TEST(FeatureExtractor, KittiRoadBelowTheSensorIsGround) {
   const std::filesystem::path dir = KittiDir();
-  if (!std::filesystem::exists(dir / "000000.bin")) {
-    GTEST_SKIP() << "KITTI frames not found in " << dir << " (set DAMMLOAM_DATA_DIR)";
-  }
+  DAMMLOAM_REQUIRE_DATA(dir / "000000.bin");
   SensorModel hdl64;
   hdl64.rings = 64;
   hdl64.columns = 1024;  // ~2000 returns per beam: 1024 columns leave few holes

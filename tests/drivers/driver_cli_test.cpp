@@ -14,9 +14,10 @@
 #include "drivers/net/udp_receiver.hpp"
 #include "drivers/ouster/cloud.hpp"
 #include "drivers/ouster/packet_decoder.hpp"
-#include "test_data.hpp"
 #include "io/sequence_io.hpp"
+#include "tests/support/data_dir.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 
 extern char** environ;
 
@@ -24,7 +25,7 @@ namespace dammloam::drivers {
 namespace {
 
 namespace fs = std::filesystem;
-using testing::DataDir;
+using test::DataDir;
 
 const fs::path kDriver = fs::path(DAMMLOAM_DRIVER_BIN_DIR) / "dammloam-driver";
 fs::path OusterDir() { return DataDir() / "ouster_sdk_pcaps"; }
@@ -40,7 +41,7 @@ int RunDriver(const std::vector<std::string>& args, const fs::path& log) {
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 
-std::string ReadBytes(const fs::path& p) { return testing::ReadText(p); }
+std::string ReadBytes(const fs::path& p) { return test::ReadText(p); }
 
 TEST(DriverCli, PcapConversionWritesSequenceAndRangeDump) {
   DAMMLOAM_REQUIRE_DATA(Lbn3Pcap());

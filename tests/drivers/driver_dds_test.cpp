@@ -14,7 +14,7 @@
 #include "services/dds/dds.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
-#include "test_data.hpp"
+#include "tests/support/data_dir.hpp"
 
 extern char** environ;
 
@@ -24,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(DriverDds, PublishesEveryFrameAsAValidPointCloud) {
-  const fs::path dir = testing::DataDir() / "ouster_sdk_pcaps";
+  const fs::path dir = test::DataDir() / "ouster_sdk_pcaps";
   const fs::path pcap = dir / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
   const fs::path json = dir / "OS-1-128_v2.3.0_1024x10.json";
   DAMMLOAM_REQUIRE_DATA(pcap);

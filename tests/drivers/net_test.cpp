@@ -7,8 +7,8 @@
 
 #include "drivers/net/link_parser.hpp"
 #include "drivers/net/pcap_reader.hpp"
+#include "tests/support/data_dir.hpp"
 #include "tests/support/temp_dir.hpp"
-#include "test_data.hpp"
 
 namespace dammloam::drivers {
 namespace {
@@ -190,7 +190,7 @@ TEST(PcapReader, MissingOrGarbageFileGivesClearError) {
 }
 
 TEST(PcapReader, RealCapturesCountLidarAndOtherPackets) {
-  const auto dir = testing::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils";
+  const auto dir = test::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils";
   DAMMLOAM_REQUIRE_DATA(dir / "hdl32e_example.pcap");
   PcapReader reader(dir / "hdl32e_example.pcap", PcapFilter{2368});
   std::size_t n = 0;

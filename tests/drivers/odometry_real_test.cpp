@@ -10,7 +10,7 @@
 #include "drivers/ouster/packet_decoder.hpp"
 #include "drivers/velodyne/calibration.hpp"
 #include "drivers/velodyne/decoder.hpp"
-#include "test_data.hpp"
+#include "tests/support/data_dir.hpp"
 
 namespace dammloam::drivers {
 namespace {
@@ -27,7 +27,7 @@ std::vector<Eigen::Vector3d> ReadKittiTranslations(const std::filesystem::path& 
 }
 
 TEST(OdometryOnRealData, Os1128ThreeFramesTrackReferencePoses) {
-  const auto dir = testing::DataDir() / "ouster_sdk_pcaps";
+  const auto dir = test::DataDir() / "ouster_sdk_pcaps";
   DAMMLOAM_REQUIRE_DATA(dir / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap");
   const auto meta = ouster::LoadMetadata(dir / "OS-1-128_v2.3.0_1024x10.json");
   const auto reference = ReadKittiTranslations(dir / "OS-1-128_v2.3.0_1024x10_lb_n3_poses_kitti.txt");
@@ -64,7 +64,7 @@ TEST(OdometryOnRealData, Os1128ThreeFramesTrackReferencePoses) {
 // then the first scan and itself are deskewed again), a steady heading and no vertical jumps.
 // Measured: 13.8, 14.5, 15.6, 15.1 m/s; before the bootstrap re-deskew 6.6 to 18.8 m/s.
 TEST(OdometryOnRealData, Hdl32eDrivingCaptureTracksPlausibleMotion) {
-  const auto pcap = testing::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils" / "hdl32e_example.pcap";
+  const auto pcap = test::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils" / "hdl32e_example.pcap";
   DAMMLOAM_REQUIRE_DATA(pcap);
   velodyne::Decoder decoder(
       velodyne::DecoderConfig{.model = velodyne::Model::kHDL32E},

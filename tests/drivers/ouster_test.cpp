@@ -8,12 +8,13 @@
 #include "drivers/ouster/cloud.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "drivers/ouster/packet_decoder.hpp"
-#include "test_data.hpp"
+#include "tests/support/data_dir.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace dammloam::drivers::ouster {
 namespace {
 
-using dammloam::drivers::testing::DataDir;
+using test::DataDir;
 
 std::filesystem::path OusterDir() { return DataDir() / "ouster_sdk_pcaps"; }
 
@@ -135,7 +136,7 @@ TEST_P(OusterDigest, FieldsMatchSdkDigests) {
   DAMMLOAM_REQUIRE_DATA(pcap);
   DAMMLOAM_REQUIRE_DATA(digest_file);
   const Metadata meta = LoadMetadata(OusterDir() / (name + ".json"));
-  const auto digest = nlohmann::json::parse(testing::ReadText(digest_file))["scans"][0];
+  const auto digest = nlohmann::json::parse(test::ReadText(digest_file))["scans"][0];
 
   const Decoded d = DecodeCapture(pcap, meta);
   ASSERT_EQ(d.frames.size(), 1u) << d.decoder.Summary();
@@ -161,7 +162,7 @@ TEST_P(OusterDigest, FieldsMatchSdkDigests) {
     EXPECT_EQ(md5, digest[field]) << field;
   }
   // The packet-level digest hashes the encoder counts as 32-bit values.
-  const auto packet_hash = nlohmann::json::parse(testing::ReadText(digest_file))["packet_hash"];
+  const auto packet_hash = nlohmann::json::parse(test::ReadText(digest_file))["packet_hash"];
   EXPECT_EQ(Md5(f.encoder_count), packet_hash["ENCODER_COUNT"]);
   EXPECT_EQ(d.decoder.Get("partial_frames"), 0u);
   EXPECT_EQ(d.decoder.Get("invalid_columns"), 0u);

@@ -8,12 +8,14 @@
 #include "drivers/net/pcap_reader.hpp"
 #include "drivers/velodyne/calibration.hpp"
 #include "drivers/velodyne/decoder.hpp"
-#include "test_data.hpp"
+#include "reference_cloud.hpp"
+#include "tests/support/data_dir.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace dammloam::drivers::velodyne {
 namespace {
 
-using dammloam::drivers::testing::DataDir;
+using test::DataDir;
 
 std::filesystem::path NebulaDir() { return DataDir() / "velodyne_nebula_rosbag2"; }
 std::filesystem::path RustDir() { return DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils"; }
@@ -102,7 +104,7 @@ TEST(VelodyneCalibration, ErrorsNameTheProblem) {
 // The packet format fixes the distance unit: a calibration that contradicts it is reported with
 // its file name and both values, and the model's unit is used.
 TEST(VelodyneCalibration, ContradictingDistanceUnitIsReportedAndIgnored) {
-  std::string yaml = testing::ReadText(Hdl32eCalibration());
+  std::string yaml = test::ReadText(Hdl32eCalibration());
   yaml.erase(yaml.find("distance_resolution:"));  // the file's own (last) line, replaced below
   const Decoder agreeing(DecoderConfig{.model = Model::kHDL32E}, ParseCalibration(yaml + "distance_resolution: 0.002\n", "hdl.yaml"));
   EXPECT_EQ(agreeing.diagnostics().Get("calibration_unit_ignored"), 0u);

@@ -2,21 +2,16 @@
 // must agree with the published GICP estimate (relative.txt) within a few cm and 0.5 deg.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/odometry/pipeline.hpp"
+#include "tests/support/data_dir.hpp"
 
 namespace dammloam {
 namespace {
-
-std::filesystem::path DataDir() {
-  if (const char* env = std::getenv("DAMMLOAM_DATA_DIR")) return env;
-  return DAMMLOAM_SHARED_DATA_DIR;
-}
 
 // Minimal reader for the PCD layout these two files have (binary, x y z intensity float32);
 // anything else fails the test with the reason.
@@ -61,10 +56,8 @@ Eigen::Isometry3d ReadMatrix(const std::filesystem::path& file) {
 }
 
 TEST(OdometryRealPair, Hdl32ePairMatchesGicp) {
-  const auto dir = DataDir() / "hdl32_pair_fast_gicp";
-  if (!std::filesystem::exists(dir / "relative.txt")) {
-    GTEST_SKIP() << "real data not found at " << dir << " (set DAMMLOAM_DATA_DIR)";
-  }
+  const auto dir = test::DataDir() / "hdl32_pair_fast_gicp";
+  DAMMLOAM_REQUIRE_DATA(dir / "relative.txt");
   Scan target = ReadBinaryXyziPcd(dir / "251370668.pcd");
   Scan source = ReadBinaryXyziPcd(dir / "251371071.pcd");
   ASSERT_GT(target.size(), 60000u);

@@ -2,14 +2,14 @@
 // the simulator, with exact ground truth): loop closure on and off, map save then localization,
 // and the errors for a corrupt map or bad arguments.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <fstream>
 #include <map>
 
-#include "tests/tools/test_support.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "io/sequence_io.hpp"
 #include "io/mapstore/map_store.hpp"
 #include "tools/simulate/simulator.hpp"
@@ -22,24 +22,13 @@ constexpr int kScans = 30;
 // simulator's 2 s ramp-up) so that it tests the runner rather than the odometry's start-up.
 constexpr int kFirstScan = 25;
 
-struct ProcessResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
+using test::CommandResult;
 
 std::string Binary() { return std::string(DAMMLOAM_BIN_DIR) + "/dammloam-odometry"; }
 
-ProcessResult RunOdometry(const std::string& arguments) {
-  const std::string command = Binary() + " " + arguments + " 2>&1";
-  ProcessResult run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer{};
-  std::size_t n = 0;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+// Output is stdout and stderr together.
+CommandResult RunOdometry(const std::string& arguments) {
+  return test::RunCommand(Binary() + " " + arguments + " 2>&1");
 }
 
 // Largest position difference between poses of equal stamps; fails if a stamp of `b` is
@@ -89,7 +78,7 @@ class RunnerCli : public ::testing::Test {
 };
 
 TEST_F(RunnerCli, WritesOnePosePerScanWithTheStampsOfTimesTxt) {
-  const ProcessResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
+  const CommandResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
                                         " --odometry-out " + Path("odometry.tum") + " --events " +
                                         Path("events.jsonl"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -110,10 +99,10 @@ TEST_F(RunnerCli, WritesOnePosePerScanWithTheStampsOfTimesTxt) {
 }
 
 TEST_F(RunnerCli, NoLoopClosureWritesTheOdometryTrajectory) {
-  const ProcessResult with = RunOdometry(Sequence() + " --quiet --out " + Path("corrected.tum") +
+  const CommandResult with = RunOdometry(Sequence() + " --quiet --out " + Path("corrected.tum") +
                                          " --odometry-out " + Path("odometry.tum"));
   ASSERT_EQ(with.exit_code, 0) << with.output;
-  const ProcessResult without =
+  const CommandResult without =
       RunOdometry(Sequence() + " --no-loop-closure --out " + Path("plain.tum"));
   ASSERT_EQ(without.exit_code, 0) << without.output;
   EXPECT_EQ(without.output.find("corrected vs gt.tum"), std::string::npos) << without.output;
@@ -123,18 +112,18 @@ TEST_F(RunnerCli, NoLoopClosureWritesTheOdometryTrajectory) {
   ASSERT_EQ(odometry.size(), plain.size());
   EXPECT_LT(MaxPositionDifference(odometry, plain), 1e-6);
   // --events needs the loop-closing back-end.
-  const ProcessResult conflict = RunOdometry(Sequence() + " --no-loop-closure --out " +
+  const CommandResult conflict = RunOdometry(Sequence() + " --no-loop-closure --out " +
                                              Path("x.tum") + " --events " + Path("e.jsonl"));
   EXPECT_NE(conflict.exit_code, 0) << conflict.output;
 }
 
 TEST_F(RunnerCli, SavedMapLocalizesTheSameSequence) {
-  const ProcessResult mapping = RunOdometry(Sequence() + " --quiet --out " +
+  const CommandResult mapping = RunOdometry(Sequence() + " --quiet --out " +
                                             Path("corrected.tum") + " --save-map " + Path("map"));
   ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
   const std::string map_json = test::ReadText(tmp_ / "map" / "map.json");
 
-  const ProcessResult localizing = RunOdometry(Sequence() + " --load-map " + Path("map") +
+  const CommandResult localizing = RunOdometry(Sequence() + " --load-map " + Path("map") +
                                                " --localize --out " + Path("localized.tum"));
   ASSERT_EQ(localizing.exit_code, 0) << localizing.output;
   EXPECT_NE(localizing.output.find("localized vs gt.tum: APE RMSE"), std::string::npos)
@@ -167,21 +156,21 @@ TEST_F(RunnerCli, SavedMapLocalizesTheSameSequence) {
 }
 
 TEST_F(RunnerCli, CorruptMapFailsWithExitCodeOneNamingTheProblem) {
-  const ProcessResult mapping = RunOdometry(Sequence() + " --quiet --max-scans 12 --out " +
+  const CommandResult mapping = RunOdometry(Sequence() + " --quiet --max-scans 12 --out " +
                                             Path("corrected.tum") + " --save-map " + Path("map"));
   ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
   const auto keyframes = tmp_ / "map" / "keyframes.bin";
   ASSERT_TRUE(std::filesystem::exists(keyframes));
   std::filesystem::resize_file(keyframes, std::filesystem::file_size(keyframes) / 2);
 
-  const ProcessResult truncated = RunOdometry(Sequence() + " --load-map " + Path("map") +
+  const CommandResult truncated = RunOdometry(Sequence() + " --load-map " + Path("map") +
                                               " --localize --out " + Path("localized.tum"));
   EXPECT_EQ(truncated.exit_code, 1) << truncated.output;
   EXPECT_NE(truncated.output.find("keyframes.bin"), std::string::npos) << truncated.output;
   EXPECT_FALSE(std::filesystem::exists(tmp_ / "localized.tum"));
 
   std::filesystem::remove(tmp_ / "map" / "map.json");
-  const ProcessResult no_meta = RunOdometry(Sequence() + " --load-map " + Path("map") +
+  const CommandResult no_meta = RunOdometry(Sequence() + " --load-map " + Path("map") +
                                             " --localize --out " + Path("localized.tum"));
   EXPECT_EQ(no_meta.exit_code, 1) << no_meta.output;
   EXPECT_NE(no_meta.output.find("map.json"), std::string::npos) << no_meta.output;
@@ -193,7 +182,7 @@ TEST_F(RunnerCli, BackendConfigIsReadAndItsMistakesNameTheKey) {
   test::WriteText(tmp_ / "one-keyframe.yaml",
                   "loop_closing:\n  keyframes: {min_distance: 1000.0, min_rotation_rad: 100.0}\n"
                   "  scan_context: {rings: 12}\n");
-  const ProcessResult mapping =
+  const CommandResult mapping =
       RunOdometry(Sequence() + " --quiet --max-scans 12 --out " + Path("corrected.tum") +
                   " --save-map " + Path("map") + " --backend-config " + Path("one-keyframe.yaml"));
   ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
@@ -204,20 +193,20 @@ TEST_F(RunnerCli, BackendConfigIsReadAndItsMistakesNameTheKey) {
   // A localizer that counts only millimetre-close points as overlap places no scan.
   test::WriteText(tmp_ / "strict.yaml",
                   "localizer:\n  relocalize_icp: {inlier_distance: 0.001}\n");
-  const ProcessResult localizing =
+  const CommandResult localizing =
       RunOdometry(Sequence() + " --max-scans 6 --load-map " + Path("map") + " --localize --out " +
                   Path("localized.tum") + " --backend-config " + Path("strict.yaml"));
   EXPECT_EQ(localizing.exit_code, 1) << localizing.output;
   EXPECT_NE(localizing.output.find("could be localized"), std::string::npos) << localizing.output;
 
   test::WriteText(tmp_ / "typo.yaml", "loop_closing:\n  scan_context: {ringz: 12}\n");
-  const ProcessResult typo = RunOdometry(Sequence() + " --out " + Path("x.tum") +
+  const CommandResult typo = RunOdometry(Sequence() + " --out " + Path("x.tum") +
                                          " --backend-config " + Path("typo.yaml"));
   EXPECT_EQ(typo.exit_code, 1) << typo.output;
   EXPECT_NE(typo.output.find("typo.yaml: loop_closing.scan_context.ringz: unknown key"),
             std::string::npos) << typo.output;
   test::WriteText(tmp_ / "negative.yaml", "loop_closing:\n  scan_context: {rings: -20}\n");
-  const ProcessResult negative = RunOdometry(Sequence() + " --out " + Path("x.tum") +
+  const CommandResult negative = RunOdometry(Sequence() + " --out " + Path("x.tum") +
                                              " --backend-config " + Path("negative.yaml"));
   EXPECT_EQ(negative.exit_code, 1) << negative.output;
   EXPECT_NE(negative.output.find("loop_closing.scan_context.rings: must be >= 1"),
@@ -227,7 +216,7 @@ TEST_F(RunnerCli, BackendConfigIsReadAndItsMistakesNameTheKey) {
 
 TEST_F(RunnerCli, RefusesToSaveTheMapOverSomethingElse) {
   test::WriteText(tmp_ / "precious.txt", "not a map\n");
-  const ProcessResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
+  const CommandResult run = RunOdometry(Sequence() + " --out " + Path("corrected.tum") +
                                         " --save-map " + Path("precious.txt"));
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("precious.txt"), std::string::npos) << run.output;

@@ -1,14 +1,12 @@
 // dammloam-simulate --preset / --motion round trips.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
-#include <unistd.h>
 
 #include "io/sequence_io.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -19,26 +17,16 @@ namespace fs = std::filesystem;
 
 class SimulatePresetCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("dammloam-simp-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+  // Runs dammloam-simulate, returns its exit code and keeps what it printed for Log().
+  int Run(const std::string& args) {
+    last_ = test::RunCommand(std::string(DAMMLOAM_BIN_DIR) + "/dammloam-simulate " + args + " 2>&1");
+    return last_.exit_code;
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  // stdout and stderr of the last Run.
+  const std::string& Log() const { return last_.output; }
 
-  int Run(const std::string& args) const {
-    const std::string cmd = std::string(DAMMLOAM_BIN_DIR) + "/dammloam-simulate " + args + " > " +
-                            (dir_ / "log.txt").string() + " 2>&1";
-    return std::system(cmd.c_str());
-  }
-  std::string Log() const {
-    std::ifstream in(dir_ / "log.txt");
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-
-  fs::path dir_;
+  const test::TempDir dir_;  // a fresh directory per test: parallel ctest runs never share files
+  test::CommandResult last_;
 };
 
 TEST_F(SimulatePresetCli, PresetPrefixMatchesTheLibrary) {

@@ -1,33 +1,21 @@
 // Runs the built dammloam-evaluate binary on small files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "tests/tools/test_support.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "io/tum.hpp"
 
 namespace dammloam::eval {
 namespace {
 
-struct ProcessResult {
-  int exit_code = -1;
-  std::string output;  // stdout (stderr too when asked)
-};
+using test::CommandResult;
 
-ProcessResult RunEvaluate(const std::string& arguments) {
-  const std::string command = std::string(DAMMLOAM_BIN_DIR) + "/dammloam-evaluate " + arguments;
-  ProcessResult run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer{};
-  std::size_t n = 0;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+// Output is stdout only; a test that wants stderr too ends `arguments` with "2>&1".
+CommandResult RunEvaluate(const std::string& arguments) {
+  return test::RunCommand(std::string(DAMMLOAM_BIN_DIR) + "/dammloam-evaluate " + arguments);
 }
 
 class EvaluateCli : public ::testing::Test {
@@ -53,7 +41,7 @@ class EvaluateCli : public ::testing::Test {
 };
 
 TEST_F(EvaluateCli, JsonOutput) {
-  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --json");
+  const CommandResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto json = nlohmann::json::parse(run.output);
   EXPECT_EQ(json["pairs"], 11);
@@ -64,7 +52,7 @@ TEST_F(EvaluateCli, JsonOutput) {
 }
 
 TEST_F(EvaluateCli, TableAndPlot) {
-  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --plot " + Path("out.svg"));
+  const CommandResult run = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --plot " + Path("out.svg"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("APE"), std::string::npos) << run.output;
   EXPECT_EQ(test::ReadText(tmp_ / "out.svg").rfind("<svg", 0), 0u);
@@ -72,11 +60,11 @@ TEST_F(EvaluateCli, TableAndPlot) {
 
 TEST_F(EvaluateCli, BadInputFailsNamingTheFile) {
   test::WriteText(tmp_ / "broken.tum", "0 1 2\n");
-  const ProcessResult run = RunEvaluate(Path("gt.tum") + " " + Path("broken.tum") + " --json 2>&1");
+  const CommandResult run = RunEvaluate(Path("gt.tum") + " " + Path("broken.tum") + " --json 2>&1");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.output.find("broken.tum:1"), std::string::npos) << run.output;
 
-  const ProcessResult no_pairs = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --max-time-diff 0.0001 2>&1");
+  const CommandResult no_pairs = RunEvaluate(Path("gt.tum") + " " + Path("est.tum") + " --max-time-diff 0.0001 2>&1");
   EXPECT_EQ(no_pairs.exit_code, 1);
   EXPECT_NE(no_pairs.output.find("need at least 2"), std::string::npos) << no_pairs.output;
 }

@@ -5,7 +5,8 @@
 #include <stack>
 
 #include "core/geometry/se3.hpp"
-#include "tests/tools/test_support.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "tools/evaluate/metrics_report.hpp"
 #include "tools/evaluate/svg_plot.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <fstream>
 
+#include "tests/support/data_dir.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "tests/tools/test_support.hpp"
 #include "io/sequence_io.hpp"
 
@@ -79,8 +82,8 @@ TEST(KittiFolder, ExplicitLayoutOverridesMeta) {
 
 // Real HDL-64E scans (KITTI format, see the folder's README): sizes and geometry as documented.
 TEST(KittiFolder, RealHdl64Scans) {
-  const auto dir = test::SharedDataDir() / "kitti_hdl64_patchworkpp_6frames";
-  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "real data not found at " << dir;
+  const auto dir = test::DataDir() / "kitti_hdl64_patchworkpp_6frames";
+  DAMMLOAM_REQUIRE_DATA(dir);
   const SequenceReader reader = SequenceReader::Open(dir, XyziOptions());
   ASSERT_EQ(reader.size(), 6u);
   EXPECT_EQ(reader.times().back(), 0.5);

@@ -6,6 +6,8 @@
 
 #include "core/geometry/se3.hpp"
 #include "tests/tools/test_support.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "io/sequence_io.hpp"
 
 namespace dammloam::io {

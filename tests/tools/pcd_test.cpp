@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include "tests/support/data_dir.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 #include "tests/tools/test_support.hpp"
 #include "io/io_error.hpp"
 #include "io/pcd/labelled_pcd.hpp"
@@ -89,8 +92,8 @@ TEST(LabelledPcd, ErrorsNameTheFile) {
 
 // A real HDL-32E scan saved by PCL (x y z intensity, binary): read without labels or normals.
 TEST(LabelledPcd, ReadsRealHdl32Pcd) {
-  const auto file = test::SharedDataDir() / "hdl32_pair_fast_gicp" / "251370668.pcd";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "real data not found at " << file;
+  const auto file = test::DataDir() / "hdl32_pair_fast_gicp" / "251370668.pcd";
+  DAMMLOAM_REQUIRE_DATA(file);
   const LabelledCloud cloud = ReadLabelledPcd(file);
   ASSERT_EQ(cloud.size(), 69088u);
   EXPECT_TRUE(cloud.labels.empty());

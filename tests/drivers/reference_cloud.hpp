@@ -1,12 +1,11 @@
 #pragma once
-#include <gtest/gtest.h>
-
+// Compares decoded Velodyne clouds with the reference clouds other drivers exported from the
+// same captures (PCD files in the shared data folder).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,26 +13,6 @@
 #include <vector>
 
 namespace dammloam::drivers::testing {
-
-// The shared real-data folder: $DAMMLOAM_DATA_DIR if set, else the compile-time default.
-inline std::filesystem::path DataDir() {
-  if (const char* env = std::getenv("DAMMLOAM_DATA_DIR"); env != nullptr && *env != 0) return env;
-  return DAMMLOAM_SHARED_DATA_DIR;
-}
-
-// Skips the calling test when a data file is absent (the data is never copied into the repo).
-#define DAMMLOAM_REQUIRE_DATA(path)                                                          \
-  do {                                                                                       \
-    if (!std::filesystem::exists(path)) {                                                    \
-      GTEST_SKIP() << "real sensor data not found: " << (path)                               \
-                   << " (set DAMMLOAM_DATA_DIR to the shared data folder)";                  \
-    }                                                                                        \
-  } while (0)
-
-inline std::string ReadText(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // Median distance from each query point to its nearest neighbour in `ref` (grid hash search),
 // and the fraction within `within` metres.
