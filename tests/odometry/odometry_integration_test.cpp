@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include "core/odometry/pipeline.hpp"
@@ -20,6 +21,12 @@ OdometryConfig WithMode(RegistrationMode mode) {
   OdometryConfig config;
   config.registration.mode = mode;
   return config;
+}
+
+// The first `scans` scans of the hand-held corridor preset seen by a VLP-16.
+bench::SimSequence HandheldCorridorVlp16(std::uint64_t seed, int scans) {
+  return bench::RecordSequence(
+      sim::Simulator(*sim::FindPreset("handheld-corridor"), sim::Vlp16(), seed), scans);
 }
 
 TEST(OdometryIntegration, ZigzagCorridorIsTracked) {
@@ -179,14 +186,7 @@ TEST(OdometryIntegration, StartWhileMovingRecoversTheSpeedAtOnce) {
 // sensor range) turned the 0.5 deg shake of a hand-held walk into a 4.7 m correspondence gate
 // along which single scans slid 0.2 m. The gate must shrink with the scene and tracking must hold.
 TEST(OdometryIntegration, TheCorrespondenceGateFollowsTheSceneSize) {
-  const sim::Simulator simulator(*sim::FindPreset("handheld-corridor"), sim::Vlp16(), 1);
-  bench::SimSequence seq;
-  seq.model = simulator.sensor_model();
-  for (int i = 0; i < 80; ++i) {
-    seq.scans.push_back(simulator.SimulateScan(i));
-    const double t = simulator.ScanStartTime(i);
-    seq.ground_truth.push_back({t, simulator.PoseAt(t)});
-  }
+  const bench::SimSequence seq = HandheldCorridorVlp16(/*seed=*/1, /*scans=*/80);
   auto run_with = [&](double factor) {
     OdometryConfig config;
     config.threshold_range_factor = factor;
@@ -208,14 +208,7 @@ TEST(OdometryIntegration, TheCorrespondenceGateFollowsTheSceneSize) {
 // pose interpolated between two registered mid-scan poses follows that; extrapolating back from
 // one mid-scan pose with the previous scan's velocity puts its error into every pose.
 TEST(OdometryIntegration, InterpolatedStartPosesFollowAHandHeldWalk) {
-  const sim::Simulator simulator(*sim::FindPreset("handheld-corridor"), sim::Vlp16(), 2);
-  bench::SimSequence seq;
-  seq.model = simulator.sensor_model();
-  for (int i = 0; i < 120; ++i) {
-    seq.scans.push_back(simulator.SimulateScan(i));
-    const double t = simulator.ScanStartTime(i);
-    seq.ground_truth.push_back({t, simulator.PoseAt(t)});
-  }
+  const bench::SimSequence seq = HandheldCorridorVlp16(/*seed=*/2, /*scans=*/120);
   auto run_with = [&](bool interpolate) {
     OdometryConfig config;
     config.interpolate_start_pose = interpolate;

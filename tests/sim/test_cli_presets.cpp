@@ -5,8 +5,7 @@
 #include <string>
 
 #include "io/sequence_io.hpp"
-#include "tests/support/run_command.hpp"
-#include "tests/support/temp_dir.hpp"
+#include "tests/sim/simulate_cli_fixture.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -15,19 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SimulatePresetCli : public ::testing::Test {
- protected:
-  // Runs dammloam-simulate, returns its exit code and keeps what it printed for Log().
-  int Run(const std::string& args) {
-    last_ = test::RunCommand(std::string(DAMMLOAM_BIN_DIR) + "/dammloam-simulate " + args + " 2>&1");
-    return last_.exit_code;
-  }
-  // stdout and stderr of the last Run.
-  const std::string& Log() const { return last_.output; }
-
-  const test::TempDir dir_;  // a fresh directory per test: parallel ctest runs never share files
-  test::CommandResult last_;
-};
+using SimulatePresetCli = SimulateCliTest;
 
 TEST_F(SimulatePresetCli, PresetPrefixMatchesTheLibrary) {
   const fs::path out = dir_ / "seq";

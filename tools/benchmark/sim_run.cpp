@@ -20,10 +20,14 @@ SimSequence GenerateSequence(sim::SceneKind scene, const sim::SensorSpec& sensor
   sim::SimOptions options;
   options.seed = seed;
   options.num_scans = num_scans;
-  const sim::Simulator simulator(scene, sensor, options);
-  SimSequence sequence;
+  SimSequence sequence = RecordSequence(sim::Simulator(scene, sensor, options), num_scans);
   sequence.scene = std::string(sim::SceneName(scene));
   sequence.sensor = sensor.name;
+  return sequence;
+}
+
+SimSequence RecordSequence(const sim::Simulator& simulator, int num_scans) {
+  SimSequence sequence;
   sequence.model = simulator.sensor_model();
   for (int i = 0; i < num_scans; ++i) {
     sequence.scans.push_back(simulator.SimulateScan(i));

@@ -25,6 +25,9 @@ struct SimSequence {
 
 SimSequence GenerateSequence(sim::SceneKind scene, const sim::SensorSpec& sensor, int num_scans,
                              std::uint64_t seed = 1);
+// The first `num_scans` scans of any simulator (a scene or a preset), with ground truth at
+// each scan start; scene and sensor names are left to the caller.
+SimSequence RecordSequence(const sim::Simulator& simulator, int num_scans);
 
 struct Percentiles {
   double median = 0.0;
