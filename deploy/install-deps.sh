@@ -18,6 +18,9 @@ PACKAGES=(
   procps
   python3  # tools/check-floors.sh (standard library only)
   libssl-dev
+  # tests/system network exposure and DDS Security tests: sockets (ss), certificates and signed
+  # governance/permissions (openssl).
+  iproute2 openssl
 )
 
 missing=()
