@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "services/dammloamd/daemon.hpp"
+#include "tests/system/daemon_test_config.hpp"
 #include "tests/system/dds_test_client.hpp"
 #include "tests/system/sim_sequence.hpp"
 
@@ -19,10 +20,9 @@ using std::chrono::milliseconds;
 constexpr milliseconds kTimeout(60000);  // sanitizer builds are slow
 constexpr milliseconds kStatusWait(10000);
 
+// The pipeline set-up with the back-end on (its failures are what these tests inject).
 daemon::DaemonConfig FailureTestConfig(std::uint32_t domain, const sim::Simulator& simulator) {
-  daemon::DaemonConfig config;
-  config.domain = domain;
-  config.sensor = simulator.sensor_model();
+  daemon::DaemonConfig config = PipelineTestConfig(domain, simulator);
   config.loop_closure = true;
   config.labelled_cloud_every = 0;
   config.status_period = 0.1;

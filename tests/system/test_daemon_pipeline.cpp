@@ -9,6 +9,7 @@
 
 #include "core/odometry/pipeline.hpp"
 #include "services/dammloamd/daemon.hpp"
+#include "tests/system/daemon_test_config.hpp"
 #include "tests/system/dds_test_client.hpp"
 #include "tests/system/sim_sequence.hpp"
 
@@ -17,16 +18,6 @@ namespace {
 
 using std::chrono::milliseconds;
 constexpr milliseconds kPoseTimeout(60000);  // sanitizer builds are slow
-
-daemon::DaemonConfig TestConfig(std::uint32_t domain, const sim::Simulator& simulator) {
-  daemon::DaemonConfig config;
-  config.domain = domain;
-  config.sensor = simulator.sensor_model();
-  config.loop_closure = false;
-  config.labelled_cloud_every = 1;
-  config.status_period = 0.2;
-  return config;
-}
 
 class DaemonPipeline : public ::testing::Test {
  protected:
@@ -37,7 +28,7 @@ TEST_F(DaemonPipeline, EveryScanYieldsOneOdometryAndALabelledCloudWithValidLabel
   constexpr std::uint32_t kDomain = 71;
   constexpr int kScans = 8;
   const sim::Simulator simulator = SmallSimulator(kScans);
-  daemon::Daemon daemon(TestConfig(kDomain, simulator), OdometryConfig{});
+  daemon::Daemon daemon(PipelineTestConfig(kDomain, simulator), OdometryConfig{});
   daemon.Start();
   DdsTestClient client(kDomain);
   ASSERT_TRUE(client.WaitForDaemon(milliseconds(10000)));
@@ -128,7 +119,7 @@ TEST_F(DaemonPipeline, MalformedSamplesAreRejectedByNameWhileValidScansAreTracke
   };
   const int num_scans = static_cast<int>(cases.size()) + 1;
   const sim::Simulator simulator = SmallSimulator(num_scans);
-  daemon::Daemon daemon(TestConfig(kDomain, simulator), OdometryConfig{});
+  daemon::Daemon daemon(PipelineTestConfig(kDomain, simulator), OdometryConfig{});
   daemon.Start();
   DdsTestClient client(kDomain);
   ASSERT_TRUE(client.WaitForDaemon(milliseconds(10000)));
@@ -167,7 +158,7 @@ TEST_F(DaemonPipeline, OverloadDropsTheOldestScansAndCountsThem) {
   for (int i = 0; i < kScans; ++i) {
     clouds.push_back(dds::ScanToCloud(simulator.SimulateScan(i), "lidar", i));
   }
-  daemon::DaemonConfig config = TestConfig(kDomain, simulator);
+  daemon::DaemonConfig config = PipelineTestConfig(kDomain, simulator);
   config.input_depth = kScans;  // DDS keeps them all: any loss happens in the daemon, counted
   daemon::Daemon daemon(config, OdometryConfig{});
   daemon.Start();

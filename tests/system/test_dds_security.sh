@@ -11,16 +11,8 @@ bin=$1 src=$2 domain=${3:-212}
 libdir=${DAMMLOAM_SECURITY_LIBDIR:-/usr/lib/x86_64-linux-gnu/libddsc0debian}
 [ -f "$libdir/libdds_security_auth.so" ] || { echo "SKIP: no Cyclone DDS security plugins in $libdir"; exit 77; }
 command -v openssl >/dev/null || { echo "SKIP: openssl not installed"; exit 77; }
-base=$((7400 + 250 * domain))
-work=$(mktemp -d "${TMPDIR:-/tmp}/dammloam-security.XXXXXX")
-daemon=
-cleanup() {
-  [ -n "$daemon" ] && kill "$daemon" 2>/dev/null && wait "$daemon" 2>/dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
+name=security
+. "$src/tests/system/daemon_script.sh"
 
 "$src/deploy/security/make-pki.sh" -o "$work/pki" -d 2 >"$work/pki.log" 2>&1 ||
   { echo "FAIL: make-pki.sh"; cat "$work/pki.log"; exit 1; }
@@ -37,14 +29,7 @@ for _ in $(seq 100); do
 done
 
 marker="dammloam-secret-$$"
-capture=no
-python3 "$src/tests/system/udp_capture.py" "$base" $((base + 249)) 6 "$marker" >"$work/capture.out" 2>"$work/capture.err" &
-capture_pid=$!
-for _ in $(seq 50); do
-  grep -q ready "$work/capture.err" 2>/dev/null && { capture=yes; break; }
-  kill -0 "$capture_pid" 2>/dev/null || break
-  sleep 0.1
-done
+start_capture 6 "$marker"
 
 out=$(DAMMLOAM_IDENTITY=dammloam-operator "$bin/dammloam-command" save_map "$marker" --domain "$domain" --timeout 10 2>&1)
 rc=$?

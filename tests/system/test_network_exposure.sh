@@ -11,28 +11,13 @@ set -u
 bin=$1 src=$2 domain=${3:-211}
 command -v ss >/dev/null || { echo "SKIP: ss (iproute2) not installed"; exit 77; }
 # DDSI port mapping (Discovery/Ports defaults): PB=7400 DG=250 PG=2 d0=0 d1=10 d2=1 d3=11
-base=$((7400 + 250 * domain))
 max_index=32  # Discovery/MaxAutoParticipantIndex of the loopback config
-work=$(mktemp -d "${TMPDIR:-/tmp}/dammloam-exposure.XXXXXX")
-daemon=
-cleanup() {
-  [ -n "$daemon" ] && kill "$daemon" 2>/dev/null && wait "$daemon" 2>/dev/null
-  rm -rf "$work"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-fail=0
+name=exposure
+. "$src/tests/system/daemon_script.sh"
 
 export CYCLONEDDS_URI="file://$src/deploy/cyclonedds-loopback.xml"  # never the default network
 
-capture=no
-python3 "$src/tests/system/udp_capture.py" "$base" $((base + 249)) 8 >"$work/capture.out" 2>"$work/capture.err" &
-capture_pid=$!
-for _ in $(seq 50); do  # wait for the capture socket (or its refusal)
-  grep -q ready "$work/capture.err" 2>/dev/null && { capture=yes; break; }
-  kill -0 "$capture_pid" 2>/dev/null || break
-  sleep 0.1
-done
+start_capture 8
 
 "$bin/dammloamd" --domain "$domain" >"$work/daemon.log" 2>&1 &
 daemon=$!

@@ -10,6 +10,7 @@
 
 #include "services/dammloamd/daemon.hpp"
 #include "services/dds/ros2_messages.hpp"
+#include "tests/system/daemon_test_config.hpp"
 #include "tests/system/dds_test_client.hpp"
 #include "tests/system/sim_sequence.hpp"
 
@@ -197,16 +198,6 @@ class Ros2Peer {
   dds::Reader<tf2_msgs_msg_dds__TFMessage_> tf_;
 };
 
-daemon::DaemonConfig TestConfig(std::uint32_t domain, const sim::Simulator& simulator) {
-  daemon::DaemonConfig config;
-  config.domain = domain;
-  config.sensor = simulator.sensor_model();
-  config.loop_closure = false;
-  config.labelled_cloud_every = 1;
-  config.status_period = 0.2;
-  return config;
-}
-
 double AngleBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle();
 }
@@ -230,7 +221,7 @@ TEST_F(Ros2Pipeline, OusterRosCloudsGiveOdometryEqualToTheNativeRunAndTf) {
 
   std::vector<Eigen::Isometry3d> native_poses;
   {
-    daemon::Daemon daemon(TestConfig(kNativeDomain, simulator), OdometryConfig{});
+    daemon::Daemon daemon(PipelineTestConfig(kNativeDomain, simulator), OdometryConfig{});
     daemon.Start();
     DdsTestClient client(kNativeDomain);
     ASSERT_TRUE(client.WaitForDaemon(milliseconds(10000)));
@@ -243,7 +234,7 @@ TEST_F(Ros2Pipeline, OusterRosCloudsGiveOdometryEqualToTheNativeRunAndTf) {
     for (const auto& pose : client.poses) native_poses.push_back(pose.T);
   }
 
-  daemon::DaemonConfig config = TestConfig(kRos2Domain, simulator);
+  daemon::DaemonConfig config = PipelineTestConfig(kRos2Domain, simulator);
   config.ros2.enabled = true;  // the defaults, as --ros2 gives them
   daemon::Daemon daemon(config, OdometryConfig{});
   daemon.Start();
@@ -321,7 +312,7 @@ TEST_F(Ros2Pipeline, OusterRosCloudsGiveOdometryEqualToTheNativeRunAndTf) {
 TEST_F(Ros2Pipeline, DeskewOffAcceptsCloudsWithoutPerPointTime) {
   constexpr std::uint32_t kDomain = 123;
   const sim::Simulator simulator = SmallSimulator(2);
-  daemon::DaemonConfig config = TestConfig(kDomain, simulator);
+  daemon::DaemonConfig config = PipelineTestConfig(kDomain, simulator);
   config.ros2.enabled = true;
   config.ros2.deskew = dds::PointTimes::kIgnored;
   config.ros2.sensor_frame = "lidar_link";
@@ -348,7 +339,7 @@ TEST_F(Ros2Pipeline, VelodyneCloudsStampedAtTheSweepEndGetTheStampOfTheirFirstPo
   constexpr std::uint32_t kDomain = 124;
   const sim::Simulator simulator = SmallSimulator(3);
   const double period = simulator.sensor_model().scan_period;
-  daemon::DaemonConfig config = TestConfig(kDomain, simulator);
+  daemon::DaemonConfig config = PipelineTestConfig(kDomain, simulator);
   config.ros2.enabled = true;
   daemon::Daemon daemon(config, OdometryConfig{});
   daemon.Start();
