@@ -26,3 +26,16 @@ start_capture() {
     sleep 0.1
   done
 }
+
+# start_daemon [ENV=VALUE ...]: dammloamd on $domain in the background (daemon), returning once
+# its participant is up (the log line follows the participant's creation); fails the test if it
+# exits first.
+start_daemon() {
+  env "$@" "$bin/dammloamd" --domain "$domain" >"$work/daemon.log" 2>&1 &
+  daemon=$!
+  for _ in $(seq 100); do
+    grep -q "dammloamd on domain $domain" "$work/daemon.log" && return 0
+    kill -0 "$daemon" 2>/dev/null || { echo "FAIL: dammloamd exited"; cat "$work/daemon.log"; exit 1; }
+    sleep 0.1
+  done
+}

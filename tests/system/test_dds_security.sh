@@ -20,13 +20,7 @@ export DAMMLOAM_SECURITY_DIR="$work/pki" DAMMLOAM_SECURITY_LIBDIR="$libdir"
 plain="file://$src/deploy/cyclonedds-loopback.xml"
 export CYCLONEDDS_URI="$plain,file://$src/deploy/security/cyclonedds-security.xml"
 
-DAMMLOAM_IDENTITY=dammloamd "$bin/dammloamd" --domain "$domain" >"$work/daemon.log" 2>&1 &
-daemon=$!
-for _ in $(seq 100); do
-  grep -q "dammloamd on domain $domain" "$work/daemon.log" && break
-  kill -0 "$daemon" 2>/dev/null || { echo "FAIL: dammloamd exited with security on"; cat "$work/daemon.log"; exit 1; }
-  sleep 0.1
-done
+start_daemon DAMMLOAM_IDENTITY=dammloamd
 
 marker="dammloam-secret-$$"
 start_capture 6 "$marker"

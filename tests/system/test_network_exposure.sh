@@ -19,14 +19,7 @@ export CYCLONEDDS_URI="file://$src/deploy/cyclonedds-loopback.xml"  # never the 
 
 start_capture 8
 
-"$bin/dammloamd" --domain "$domain" >"$work/daemon.log" 2>&1 &
-daemon=$!
-# Sockets exist once the participant is up; the log line follows the participant's creation.
-for _ in $(seq 100); do
-  grep -q "dammloamd on domain $domain" "$work/daemon.log" && break
-  kill -0 "$daemon" 2>/dev/null || { echo "FAIL: dammloamd exited"; cat "$work/daemon.log"; exit 1; }
-  sleep 0.1
-done
+start_daemon  # sockets exist once the participant is up
 sleep 0.5
 ss -H -a -n -p -u -t -w -x >"$work/ss.all" 2>&1
 grep "pid=$daemon," "$work/ss.all" | grep -E '^(udp|tcp|raw|p_raw)' >"$work/ss.inet" || true
