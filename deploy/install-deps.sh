@@ -21,6 +21,8 @@ PACKAGES=(
   # tests/system network exposure and DDS Security tests: sockets (ss), certificates and signed
   # governance/permissions (openssl).
   iproute2 openssl
+  # libFuzzer targets (tools/fuzz.sh): clang and its runtime (libFuzzer, ASan, UBSan).
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

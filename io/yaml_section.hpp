@@ -42,6 +42,13 @@ class Section {
   void RejectUnknownKeys() const {
     if (!node_ || !node_.IsMap()) return;
     for (const auto& kv : node_) {
+      // A list or mapping as a key (`? [a, b]: 1`) names no setting; as<std::string>() would
+      // throw yaml-cpp's bare "bad conversion" instead of a ConfigError naming the place.
+      if (!kv.first.IsScalar() && !kv.first.IsNull()) {
+        throw ConfigError((path_.empty() ? std::string("top level") : path_) +
+                          ": has a key that is a list or mapping, not a name (line " +
+                          std::to_string(kv.first.Mark().line + 1) + ")");
+      }
       const std::string key = kv.first.as<std::string>();
       if (!known_.count(key)) Fail(key, "unknown key");
     }

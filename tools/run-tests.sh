@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs dependencies, checks the include floors, builds and runs every test: the release
 # build, then the core and tool suites again under ASan+UBSan, then the threaded pipeline suites
-# under TSan.
+# under TSan, then a short run of the fuzz targets (tools/fuzz.sh).
 # This is the README's test command and what .ci/run calls.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,5 +43,12 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
     -DDAMMLOAM_TEST_AREAS="system;odometry;backend" >/dev/null
   cmake --build build-tsan -j"$JOBS" --target dammloam_tests_tsan
   ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
+fi
+
+if [ "${DAMMLOAM_SKIP_FUZZ:-0}" != "1" ]; then
+  # libFuzzer targets of every parser of outside bytes (tests/fuzz, clang + ASan + UBSan): the
+  # kept crash inputs of tests/fuzz/regressions are replayed, then 20 s of fuzzing per target.
+  echo "== fuzz targets (20 s each)"
+  JOBS="$JOBS" bash tools/fuzz.sh 20
 fi
 echo "== all tests passed"

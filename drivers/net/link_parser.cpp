@@ -76,7 +76,10 @@ bool Ipv4Reassembler::Add(std::uint32_t src, std::uint32_t dst, std::uint16_t id
 
   ip_payload.assign(p.total, 0);
   for (const auto& [off, bytes] : p.pieces) {
-    const std::size_t n = std::min(bytes.size(), p.total - std::min(off, p.total));
+    // A piece past the end (a later fragment than the last one claims) holds nothing of the
+    // datagram, and begin() + off would point beyond the vector.
+    if (off >= p.total) continue;
+    const std::size_t n = std::min(bytes.size(), p.total - off);
     std::copy_n(bytes.begin(), n, ip_payload.begin() + static_cast<long>(off));
   }
   pending_.erase(it);

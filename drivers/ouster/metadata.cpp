@@ -1,6 +1,7 @@
 #include "drivers/ouster/metadata.hpp"
 
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -39,6 +40,19 @@ struct Parser {
       Fail(name, "has " + std::to_string(v.size()) + " entries, expected " + std::to_string(expected));
     }
     return v;
+  }
+
+  // Numbers stored as int (truncated as before), which must lie in int's range: casting a
+  // larger double (1e300) to int is undefined.
+  std::vector<int> Ints(const json* j, const char* name, std::size_t expected) const {
+    std::vector<int> out;
+    for (double v : Numbers(j, name, expected)) {
+      if (!(v > std::numeric_limits<int>::min() - 1.0 && v < std::numeric_limits<int>::max() + 1.0)) {
+        Fail(name, "has a value outside the integer range");
+      }
+      out.push_back(static_cast<int>(v));
+    }
+    return out;
   }
 
   Eigen::Matrix4d Transform(const json* j, const char* name) const {
@@ -121,6 +135,9 @@ Metadata ParseMetadata(std::string_view text, const std::string& source) {
   m.beam_altitude_deg = p.Numbers(p.Find({beams, &root}, "beam_altitude_angles"), "beam_altitude_angles", 0);
   const std::size_t H = m.beam_altitude_deg.size();
   if (H == 0) p.Fail("beam_altitude_angles", "is empty");
+  // Like columns_per_frame below: the ray table and every frame hold beams x columns entries.
+  // 1024 is also dammloamd's limit on rings.
+  if (H > 1024) p.Fail("beam_altitude_angles", "has " + std::to_string(H) + " entries, more than 1024 beams");
   m.beam_azimuth_deg = p.Numbers(p.Find({beams, &root}, "beam_azimuth_angles"), "beam_azimuth_angles", H);
 
   if (const json* mode = p.Find({config, &root}, "lidar_mode")) {
@@ -152,9 +169,9 @@ Metadata ParseMetadata(std::string_view text, const std::string& source) {
   m.column_window_first = 0;
   m.column_window_last = m.columns_per_frame - 1;
   if (const json* w = p.Find({format}, "column_window")) {
-    const auto v = p.Numbers(w, "column_window", 2);
-    m.column_window_first = static_cast<int>(v[0]);
-    m.column_window_last = static_cast<int>(v[1]);
+    const auto v = p.Ints(w, "column_window", 2);
+    m.column_window_first = v[0];
+    m.column_window_last = v[1];
     if (m.column_window_first < 0 || m.column_window_last >= m.columns_per_frame ||
         m.column_window_last < 0 || m.column_window_first >= m.columns_per_frame) {
       p.Fail("column_window", "lies outside [0, columns_per_frame)");
@@ -162,7 +179,7 @@ Metadata ParseMetadata(std::string_view text, const std::string& source) {
   }
 
   if (const json* s = p.Find({format}, "pixel_shift_by_row")) {
-    for (double v : p.Numbers(s, "pixel_shift_by_row", H)) m.pixel_shift_by_row.push_back(static_cast<int>(v));
+    m.pixel_shift_by_row = p.Ints(s, "pixel_shift_by_row", H);
   } else {
     // Older metadata lacks it: derive the shift from each beam's azimuth offset, which is what
     // the sensor's own table encodes (columns per degree times the offset).

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -57,16 +58,22 @@ Calibration ParseCalibration(const std::string& text, const std::string& source)
   for (std::size_t i = 0; i < lasers.size(); ++i) {
     const YAML::Node l = lasers[i];
     const std::string where = source + ": lasers[" + std::to_string(i) + "]";
+    // l[key] on a scalar or list throws YAML::BadSubscript, not a DriverError.
+    if (!l.IsMap()) throw DriverError(where + " must be a mapping of laser fields");
     auto number = [&](const char* key, bool required) {
       if (!l[key]) {
         if (required) throw DriverError(where + " has no '" + key + "'");
         return 0.0;
       }
+      double v = 0.0;
       try {
-        return l[key].as<double>();
+        v = l[key].as<double>();
       } catch (const YAML::Exception&) {
         throw DriverError(where + " field '" + key + "' is not a number");
       }
+      // .nan/.inf parse as doubles; a NaN laser_id would also pass the range check below.
+      if (!std::isfinite(v)) throw DriverError(where + " field '" + key + "' is not finite");
+      return v;
     };
     const double id = number("laser_id", true);
     if (id < 0 || id >= static_cast<double>(lasers.size()) || id != static_cast<int>(id)) {
@@ -85,8 +92,10 @@ Calibration ParseCalibration(const std::string& text, const std::string& source)
     laser.vert_offset_correction = number("vert_offset_correction", false);
   }
   if (root["num_lasers"] && root["num_lasers"].as<std::size_t>(0) != lasers.size()) {
-    throw DriverError(source + ": num_lasers says " + root["num_lasers"].as<std::string>() + " but " +
-                      std::to_string(lasers.size()) + " lasers are listed");
+    // as<std::string>() throws for a list or mapping: name it without converting.
+    const YAML::Node n = root["num_lasers"];
+    throw DriverError(source + ": num_lasers says " + (n.IsScalar() ? n.Scalar() : "a non-number") +
+                      " but " + std::to_string(lasers.size()) + " lasers are listed");
   }
   if (root["distance_resolution"]) {
     try {
@@ -94,7 +103,7 @@ Calibration ParseCalibration(const std::string& text, const std::string& source)
     } catch (const YAML::Exception&) {
       throw DriverError(source + ": distance_resolution is not a number");
     }
-    if (cal.distance_resolution <= 0.0 || cal.distance_resolution > 0.1) {
+    if (!(cal.distance_resolution > 0.0 && cal.distance_resolution <= 0.1)) {  // NaN too
       throw DriverError(source + ": distance_resolution must be in (0, 0.1] metres");
     }
   }

@@ -49,6 +49,7 @@ class ByteReader {
       throw io::IoError(file_ + ": truncated while reading " + what + " at byte " +
                         std::to_string(offset_));
     }
+    if (count == 0) return;  // `out` may be null then (an empty Eigen matrix): no memcpy
     std::memcpy(out, data_.data() + offset_, count * sizeof(T));
     offset_ += count * sizeof(T);
   }

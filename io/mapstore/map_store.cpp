@@ -1,6 +1,8 @@
 #include "io/mapstore/map_store.hpp"
 
 #include <fstream>
+#include <type_traits>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "io/mapstore/binary_io.hpp"
@@ -226,6 +228,15 @@ void CheckReplaceable(const fs::path& dir) {
 template <typename T>
 T Field(const json& meta, const char* name, const fs::path& file) {
   if (!meta.contains(name)) throw io::IoError(file.string() + ": missing field '" + name + "'");
+  if constexpr (std::is_integral_v<T>) {
+    // get<int>() casts whatever number is there: undefined for 1e300, wrapped for 2^32 + 1.
+    const json& value = meta.at(name);
+    const bool fits = value.is_number_unsigned() ? std::in_range<T>(value.get<std::uint64_t>())
+                      : value.is_number_integer() && std::in_range<T>(value.get<std::int64_t>());
+    if (!fits) {
+      throw io::IoError(file.string() + ": field '" + name + "' is not an integer in range");
+    }
+  }
   try {
     return meta.at(name).get<T>();
   } catch (const json::exception&) {

@@ -4,9 +4,13 @@
 #include <pcl/exceptions.h>
 #include <pcl/io/pcd_io.h>
 
+#include <charconv>
 #include <cstring>
+#include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/io_error.hpp"
 
@@ -101,6 +105,104 @@ std::optional<Field> FindField(const pcl::PCLPointCloud2& cloud, const std::stri
   return std::nullopt;
 }
 
+// PCL's split(): tokens between runs of tab, CR and space.
+std::vector<std::string> SplitLikePcl(const std::string& line) {
+  std::vector<std::string> tokens;
+  std::size_t start = 0;
+  while ((start = line.find_first_not_of("\t\r ", start)) != std::string::npos) {
+    const std::size_t end = line.find_first_of("\t\r ", start);
+    tokens.push_back(line.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    start = end;
+  }
+  return tokens;
+}
+
+// PCL 1.13's readHeader trusts the header: at POINTS it allocates POINTS x point_step bytes
+// before anything is checked (a 100-byte file can ask for terabytes: bad_alloc or length_error,
+// or the process is killed), a COUNT below 1 wraps to 2^32 - 1 and sends the body reader off
+// the data, and a DATA line without an encoding throws std::out_of_range. So the header is
+// walked here first, line by line as readHeader reads it, and such files are IoErrors.
+void CheckPcdHeader(const std::filesystem::path& file) {
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(file, ec);
+  if (ec) throw IoError(file.string() + ": cannot read PCD (" + ec.message() + ")");
+  // LZF expands at most ~88x, ASCII and binary data take at least as many bytes as they fill.
+  const std::uintmax_t max_bytes = 100 * file_size + 4096;
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  std::size_t fields = 0;
+  std::vector<long long> sizes;
+  std::uint32_t point_step = 0;  // as readHeader computes it
+  auto integers = [&](const std::vector<std::string>& tokens, const char* key, long long min,
+                      long long max) {
+    std::vector<long long> values;
+    for (std::size_t i = 1; i < tokens.size(); ++i) {
+      long long v = 0;
+      const auto [end, err] = std::from_chars(tokens[i].data(), tokens[i].data() + tokens[i].size(), v);
+      if (err != std::errc() || end != tokens[i].data() + tokens[i].size() || v < min || v > max) {
+        throw IoError(file.string() + ": PCD header " + key + " has an invalid value '" + tokens[i] + "'");
+      }
+      values.push_back(v);
+    }
+    return values;
+  };
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const std::vector<std::string> tokens = SplitLikePcl(line);
+    std::istringstream stream(line);
+    stream.imbue(std::locale::classic());
+    std::string key;
+    stream >> key;
+    if (key.rfind('#', 0) == 0 || key.rfind("VERSION", 0) == 0) continue;
+    if (key.rfind("FIELDS", 0) == 0 || key.rfind("COLUMNS", 0) == 0) {
+      fields = tokens.size() - 1;
+      sizes.clear();
+      point_step = static_cast<std::uint32_t>(4 * fields);
+    } else if (key.rfind("SIZE", 0) == 0) {
+      if (tokens.size() - 1 != fields) return;  // readHeader fails on it, before allocating
+      sizes = integers(tokens, "SIZE", 1, 8);
+      point_step = 0;
+      for (long long v : sizes) {
+        if (v != 1 && v != 2 && v != 4 && v != 8) {
+          throw IoError(file.string() + ": PCD header SIZE " + std::to_string(v) + " is not 1, 2, 4 or 8");
+        }
+        point_step += static_cast<std::uint32_t>(v);
+      }
+    } else if (key.rfind("COUNT", 0) == 0) {
+      if (tokens.size() - 1 != fields || sizes.empty()) return;  // readHeader fails on it
+      const auto counts = integers(tokens, "COUNT", 1, 1 << 20);
+      point_step = 0;
+      for (std::size_t i = 0; i < counts.size(); ++i) point_step += static_cast<std::uint32_t>(counts[i] * sizes[i]);
+    } else if (key.rfind("POINTS", 0) == 0) {
+      if (point_step == 0) return;  // readHeader fails on it
+      std::size_t points = 0;
+      stream >> points;  // as readHeader reads it (wrapping included)
+      const std::size_t bytes = points * point_step;
+      if (bytes > max_bytes) {
+        throw IoError(file.string() + ": PCD header declares " + std::to_string(points) + " points of " +
+                      std::to_string(point_step) + " bytes, more than a file of " +
+                      std::to_string(file_size) + " bytes can hold");
+      }
+    } else if (key.rfind("DATA", 0) == 0) {
+      if (tokens.size() < 2) throw IoError(file.string() + ": PCD header DATA names no encoding");
+      return;
+    }
+  }
+}
+
+// binary_compressed: PCL 1.13 shrinks its buffers to the uncompressed size the file states and
+// then unpacks POINTS x point_step bytes into them (a heap overflow when the file states less).
+void CheckCompressedSize(const std::filesystem::path& file, std::size_t data_index, std::size_t expected) {
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(data_index));
+  std::uint32_t sizes[2] = {0, 0};  // compressed, uncompressed
+  if (!in.read(reinterpret_cast<char*>(sizes), sizeof(sizes))) return;  // read() reports the short file
+  if (sizes[1] != expected) {
+    throw IoError(file.string() + ": PCD binary_compressed data unpacks to " + std::to_string(sizes[1]) +
+                  " bytes, but the header's points and fields need " + std::to_string(expected));
+  }
+}
+
 }  // namespace
 
 void WriteLabelledPcd(const std::filesystem::path& file, const LabelledCloud& cloud,
@@ -132,6 +234,7 @@ LabelledCloud ReadLabelledPcd(const std::filesystem::path& file) {
   try {
     // PCL 1.13 crashes reading the body of a file whose header has no fields, so the header is
     // checked on its own first.
+    CheckPcdHeader(file);
     pcl::PCDReader reader;
     Eigen::Vector4f origin;
     Eigen::Quaternionf orientation;
@@ -145,6 +248,7 @@ LabelledCloud ReadLabelledPcd(const std::filesystem::path& file) {
       throw IoError(file.string() + ": PCD has no x y z fields");
     }
     if (cloud2.width * cloud2.height == 0) return {};
+    if (data_type == 2) CheckCompressedSize(file, data_index, cloud2.data.size());
     if (reader.read(file.string(), cloud2) != 0) {
       throw IoError(file.string() + ": cannot read PCD (malformed data)");
     }

@@ -23,6 +23,11 @@ void RejectUnknownKeys(const YAML::Node& node, const std::string& path,
   if (!node) return;
   if (!node.IsMap()) Fail(path, "must be a map");
   for (const auto& item : node) {
+    // A list or mapping as a key names nothing (as<std::string>() would throw "bad conversion").
+    if (!item.first.IsScalar() && !item.first.IsNull()) {
+      Fail(path, "has a key that is a list or mapping, not a name (line " +
+                     std::to_string(item.first.Mark().line + 1) + ")");
+    }
     const auto key = item.first.as<std::string>();
     if (!known.count(key)) Fail(path + "." + key, "is not a known key");
   }

@@ -412,6 +412,14 @@ std::optional<LabelledPoints> CloudToLabelled(const dammloam_msg_PointCloud& sam
     out.points_map.emplace_back(v[3], v[4], v[5]);
     out.normals.emplace_back(static_cast<float>(v[6]), static_cast<float>(v[7]),
                              static_cast<float>(v[8]));
+    // Casting a label outside [0, 256) (any field type is allowed) to uint8 is undefined.
+    if (!(v[9] >= 0.0 && v[9] < static_cast<double>(kNumPointClasses))) {
+      if (error != nullptr) {
+        *error = PointName(index, cloud.width) + " has label " + std::to_string(v[9]) +
+                 ", not one of the " + std::to_string(kNumPointClasses) + " point classes";
+      }
+      return std::nullopt;
+    }
     out.labels.push_back(static_cast<PointClass>(static_cast<std::uint8_t>(v[9])));
   }
   return out;
