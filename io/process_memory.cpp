@@ -1,16 +1,27 @@
 #include "io/process_memory.hpp"
 
 #include <fstream>
+#include <string>
 #include <unistd.h>
 
 namespace dammloam::io {
+namespace {
 
-double ResidentSetMiB() {
-  std::ifstream statm("/proc/self/statm");
+// statm's second field: resident pages (VmRSS in /proc/PID/status).
+double ResidentMiBFrom(const std::string& statm_path) {
+  std::ifstream statm(statm_path);
   long pages_total = 0, pages_resident = 0;
   if (!(statm >> pages_total >> pages_resident)) return 0.0;
   const long page_size = sysconf(_SC_PAGESIZE);
   return static_cast<double>(pages_resident) * static_cast<double>(page_size) / (1024.0 * 1024.0);
+}
+
+}  // namespace
+
+double ResidentSetMiB() { return ResidentMiBFrom("/proc/self/statm"); }
+
+double ResidentSetMiB(pid_t pid) {
+  return ResidentMiBFrom("/proc/" + std::to_string(pid) + "/statm");
 }
 
 }  // namespace dammloam::io
