@@ -1,5 +1,9 @@
 #include "io/process_memory.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <fstream>
 #include <string>
 #include <unistd.h>
@@ -22,6 +26,12 @@ double ResidentSetMiB() { return ResidentMiBFrom("/proc/self/statm"); }
 
 double ResidentSetMiB(pid_t pid) {
   return ResidentMiBFrom("/proc/" + std::to_string(pid) + "/statm");
+}
+
+void ReturnFreedMemory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 }  // namespace dammloam::io

@@ -1,6 +1,7 @@
 #include "core/backend/loop_closing_backend.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "core/backend/global_map.hpp"
 #include "core/backend/point_to_plane_icp.hpp"
@@ -93,6 +94,7 @@ void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
   }
   database_.Add(kf.descriptor);
   keyframe_path_.push_back(pending.path_length);
+  dropped_.push_back(0);
   keyframes_.push_back(std::move(kf));
 }
 
@@ -103,6 +105,7 @@ std::optional<ScanContextCandidate> LoopClosingBackend::NearestOldKeyframe(
   std::optional<std::uint32_t> nearest;
   double best = config_.proximity_radius;
   for (std::uint32_t id = 0; id + exclude < query_id; ++id) {
+    if (!HasCloud(id)) continue;
     const double d = (keyframes_[id].T_world_sensor.translation() - position).norm();
     if (d < best) {
       best = d;
@@ -141,12 +144,39 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
           config_.loop_rotation_sigma * config_.loop_rotation_sigma;
       graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
       loops_.push_back({old.id, query.id, event.T_candidate_query});
+      // Where the loop puts the query, next to the old keyframe: the corrected map is locally
+      // consistent there even when the query's own corrected pose is still off by the drift.
+      const Eigen::Vector3d position = old.T_world_sensor * event.T_candidate_query.translation();
       events.push_back(std::move(event));
+      if (config_.revisit_drop_distance > 0.0 &&
+          DistanceToStoredKeyframe(position, query_id) <= config_.revisit_drop_distance) {
+        DropCloud(query_id);
+      }
       break;  // one verified loop per keyframe is enough evidence
     }
     events.push_back(std::move(event));
   }
   return events;
+}
+
+double LoopClosingBackend::DistanceToStoredKeyframe(const Eigen::Vector3d& position,
+                                                    std::uint32_t query_id) const {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::uint32_t id = 0; id < query_id; ++id) {
+    if (!HasCloud(id)) continue;
+    nearest = std::min(nearest, (keyframes_[id].T_world_sensor.translation() - position).norm());
+  }
+  return nearest;
+}
+
+void LoopClosingBackend::DropCloud(std::uint32_t id) {
+  Keyframe& kf = keyframes_[id];
+  // Swapped with empties: clear() would keep the capacity.
+  std::vector<Eigen::Vector3d>().swap(kf.points);
+  std::vector<PointClass>().swap(kf.labels);
+  kf.descriptor = ScanContext{};
+  database_.Retire(id);
+  dropped_[id] = 1;
 }
 
 void LoopClosingBackend::PublishCorrections() {
@@ -196,13 +226,29 @@ std::size_t LoopClosingBackend::NumAcceptedLoops() const {
   return loops_.size();
 }
 
+std::size_t LoopClosingBackend::NumStoredKeyframes() const {
+  std::lock_guard lock(process_mutex_);
+  return static_cast<std::size_t>(std::count(dropped_.begin(), dropped_.end(), 0));
+}
+
 MapData LoopClosingBackend::ExportMap() const {
   std::lock_guard lock(process_mutex_);
   MapData map;
   map.scan_context = config_.scan_context;
-  map.keyframes = keyframes_;
-  map.loops = loops_;
-  GlobalMap global = AssembleGlobalMap(keyframes_, config_.global_map_voxel_size);
+  // Saved ids are dense: a map holds only keyframes with a cloud.
+  constexpr std::uint32_t kNotSaved = ~std::uint32_t{0};
+  std::vector<std::uint32_t> saved_id(keyframes_.size(), kNotSaved);
+  for (std::uint32_t id = 0; id < keyframes_.size(); ++id) {
+    if (!HasCloud(id)) continue;
+    saved_id[id] = static_cast<std::uint32_t>(map.keyframes.size());
+    map.keyframes.push_back(keyframes_[id]);
+    map.keyframes.back().id = saved_id[id];
+  }
+  for (const LoopConstraint& loop : loops_) {
+    if (saved_id[loop.from] == kNotSaved || saved_id[loop.to] == kNotSaved) continue;
+    map.loops.push_back({saved_id[loop.from], saved_id[loop.to], loop.T_from_to});
+  }
+  GlobalMap global = AssembleGlobalMap(map.keyframes, config_.global_map_voxel_size);
   map.global_points = std::move(global.points);
   map.global_labels = std::move(global.labels);
   return map;

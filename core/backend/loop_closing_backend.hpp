@@ -27,6 +27,10 @@ struct BackendConfig {
   int max_verifications_per_keyframe = 2;
   // The nearest keyframe within this distance in the corrected map is verified first.
   double proximity_radius = 3.0;        // metres
+  // A new keyframe whose verified loop puts it this close to an older keyframe (one with a cloud,
+  // in the corrected map around the loop's partner) adds nothing the map lacks: it keeps its pose (graph node, scan corrections) and drops its cloud and
+  // descriptor. So memory grows with the area mapped, not with the time spent in it. 0: keep all.
+  double revisit_drop_distance = 2.0;   // metres
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres
   double loop_rotation_sigma = 0.01;    // radians
@@ -64,8 +68,11 @@ class LoopClosingBackend {
   std::vector<CorrectedPose> CorrectedTrajectory() const;
 
   std::size_t NumKeyframes() const;
+  // Keyframes that still hold a cloud (the others were revisits, see revisit_drop_distance).
+  std::size_t NumStoredKeyframes() const;
   std::size_t NumAcceptedLoops() const;
-  // Keyframes, loops and the global labelled map, for saving or localization.
+  // Keyframes that hold a cloud (renumbered densely), the loops between them and the global
+  // labelled map, for saving or localization.
   MapData ExportMap() const;
 
  private:
@@ -85,6 +92,10 @@ class LoopClosingBackend {
   // Oldest-excluded nearest keyframe within proximity_radius of the query, if any.
   std::optional<ScanContextCandidate> NearestOldKeyframe(std::uint32_t query_id) const;
   void PublishCorrections();
+  // Corrected-map distance from `position` to the nearest older keyframe that holds a cloud.
+  double DistanceToStoredKeyframe(const Eigen::Vector3d& position, std::uint32_t query_id) const;
+  void DropCloud(std::uint32_t id);
+  bool HasCloud(std::uint32_t id) const { return !dropped_[id]; }
 
   BackendConfig config_;
   LoopVerifier verifier_;
@@ -103,6 +114,7 @@ class LoopClosingBackend {
   mutable std::mutex process_mutex_;
   std::vector<Keyframe> keyframes_;
   std::vector<double> keyframe_path_;
+  std::vector<char> dropped_;  // per keyframe: cloud and descriptor dropped (a revisit)
   std::vector<LoopConstraint> loops_;
   ScanContextDatabase database_;
   PoseGraph graph_;

@@ -39,6 +39,15 @@ std::uint32_t ScanContextDatabase::Add(const ScanContext& descriptor) {
   return static_cast<std::uint32_t>(descriptors_.size() - 1);
 }
 
+void ScanContextDatabase::Retire(std::uint32_t id) {
+  ScanContext& entry = descriptors_.at(id);
+  if (entry.empty()) return;
+  entry.grid.resize(0, 0);
+  // Far from any real key (occupancy lies in [0, 1]), so the coarse phase passes it over.
+  entry.ring_key.setConstant(1e6f);
+  if (tree_ && id < tree_->size()) tree_.reset();  // the tree holds the old key
+}
+
 void ScanContextDatabase::RebuildIfStale(std::size_t searchable) const {
   const std::size_t built = tree_ ? tree_->size() : 0;
   // Entries past the tree are searched by brute force, so rebuilding is only an optimisation.
@@ -92,6 +101,7 @@ std::vector<ScanContextCandidate> ScanContextDatabase::Query(const ScanContext& 
   // Fine phase: column-shift distance with yaw.
   std::vector<ScanContextCandidate> result;
   for (const auto& [unused, id] : coarse) {
+    if (descriptors_[id].empty()) continue;  // retired
     const ScanContextMatch match = CompareScanContexts(query, descriptors_[id]);
     if (match.distance <= max_distance) result.push_back({id, match});
   }

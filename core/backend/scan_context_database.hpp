@@ -33,6 +33,9 @@ class ScanContextDatabase {
   // Appends a descriptor; its id is the previous size(). Throws std::invalid_argument for an
   // empty descriptor or one whose ring count differs from the stored ones.
   std::uint32_t Add(const ScanContext& descriptor);
+  // Frees an entry's grid and keeps its id: it is never returned again. For keyframes whose
+  // cloud was dropped (a revisit of mapped ground), so memory follows the area, not the time.
+  void Retire(std::uint32_t id);
   std::size_t size() const { return descriptors_.size(); }
   const ScanContext& at(std::uint32_t id) const { return descriptors_.at(id); }
 

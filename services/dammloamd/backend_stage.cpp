@@ -8,6 +8,7 @@
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
 #include "io/mapstore/map_store.hpp"
+#include "io/process_memory.hpp"
 
 namespace dammloam::daemon {
 namespace {
@@ -96,6 +97,8 @@ void LoopClosureStage::ProcessQueued() {
 
 void LoopClosureStage::ServeSaves(std::vector<SaveRequest>& saves) {
   for (SaveRequest& request : saves) request.done.set_value(Save(request.dir));
+  // A save copies the whole map once or twice; without this its freed pages stay resident.
+  if (!saves.empty()) io::ReturnFreedMemory();
 }
 
 CommandOutcome LoopClosureStage::Save(const std::filesystem::path& dir) const {
@@ -109,7 +112,9 @@ CommandOutcome LoopClosureStage::Save(const std::filesystem::path& dir) const {
     mapstore::SaveMap(dir, map);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return {true, "saved " + std::to_string(map.keyframes.size()) + " keyframes, " +
+    const std::size_t pose_only = backend_.NumKeyframes() - map.keyframes.size();
+    return {true, "saved " + std::to_string(map.keyframes.size()) + " keyframes (" +
+                      std::to_string(pose_only) + " revisits kept as poses only), " +
                       std::to_string(map.loops.size()) + " loops, " +
                       std::to_string(map.global_points.size()) + " map points to " +
                       dir.string() + " in " + std::to_string(seconds) + " s"};

@@ -109,8 +109,73 @@ TEST(LoopClosure, OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops) {
   EXPECT_LT(after * 2.0, before);
   EXPECT_EQ(backend.CorrectedTrajectory().size(), run.odometry.size());
   const MapData map = backend.ExportMap();
-  EXPECT_EQ(map.keyframes.size(), backend.NumKeyframes());
+  EXPECT_EQ(map.keyframes.size(), backend.NumStoredKeyframes());
   EXPECT_GT(map.global_points.size(), 1000u);
+}
+
+// Laps over mapped ground: keyframes keep being taken (loops keep being closed, every scan keeps
+// a corrected pose), but a keyframe verified within revisit_drop_distance of an older one drops
+// its cloud. The saved map must still cover every place driven through, and the laps after the
+// first may add only a few clouds (where a loop was rejected or lay farther away).
+TEST(LoopClosure, LapsOverMappedGroundKeepPosesButNotClouds) {
+  const sim::Simulator simulator(sim::SceneKind::Outdoor, test::TestSensor());
+  const int stride = 7;  // ~1.05 m between scans; 270 scans are ~2.2 laps of the ~130 m loop
+  const SimRun run = MakeSimRun(simulator, 270, stride, DriftModel{0.0015, 0.02});
+  LoopClosingBackend backend;
+  const Outcome outcome = RunBackendThreaded(backend, run);
+
+  // Path length at each scan, and the length of one lap (first return to the start).
+  std::vector<double> path(run.truth.size(), 0.0);
+  double lap = 0.0;
+  for (std::size_t i = 1; i < run.truth.size(); ++i) {
+    path[i] = path[i - 1] + (run.truth[i].translation() - run.truth[i - 1].translation()).norm();
+    if (lap == 0.0 && path[i] > 20.0 &&
+        (run.truth[i].translation() - run.truth[0].translation()).norm() < 2.0) {
+      lap = path[i];
+    }
+  }
+  ASSERT_GT(lap, 0.0) << "the simulated path never returned to its start";
+
+  const MapData map = backend.ExportMap();
+  std::vector<Eigen::Vector3d> stored;  // true positions of the keyframes that kept a cloud
+  std::size_t stored_after_first_lap = 0;
+  for (const Keyframe& kf : map.keyframes) {
+    const std::size_t i = static_cast<std::size_t>(kf.scan_index / stride);
+    ASSERT_LT(i, run.truth.size());
+    stored.push_back(run.truth[i].translation());
+    if (path[i] > lap + 10.0) ++stored_after_first_lap;
+  }
+  std::size_t taken_after_first_lap = 0;
+  for (const OdometryResult& r : run.odometry) {
+    // Keyframes are at least 1 m apart and the scans ~1.05 m apart: nearly every scan is one.
+    if (path[static_cast<std::size_t>(r.scan_index / stride)] > lap + 10.0) ++taken_after_first_lap;
+  }
+  double worst_gap = 0.0;
+  for (const Eigen::Isometry3d& T : run.truth) {
+    double nearest = 1e9;
+    for (const Eigen::Vector3d& p : stored) nearest = std::min(nearest, (p - T.translation()).norm());
+    worst_gap = std::max(worst_gap, nearest);
+  }
+  std::vector<Eigen::Isometry3d> odometry;
+  for (const auto& r : run.odometry) odometry.push_back(r.T_world_sensor);
+  const double before = PositionRmse(odometry, run.truth);
+  const double after = PositionRmse(outcome.corrected, run.truth);
+  std::printf("laps: lap %.0f m, %zu keyframes, %zu with a cloud (%zu of ~%zu after the first "
+              "lap), %zu accepted loops, farthest scan from a stored keyframe %.2f m, APE %.3f -> "
+              "%.3f m\n",
+              lap, backend.NumKeyframes(), backend.NumStoredKeyframes(), stored_after_first_lap,
+              taken_after_first_lap, CountAccepted(outcome.events), worst_gap, before, after);
+  EXPECT_GT(backend.NumKeyframes(), run.odometry.size() * 9 / 10);  // poses are all still taken
+  EXPECT_EQ(map.keyframes.size(), backend.NumStoredKeyframes());
+  EXPECT_LT(worst_gap, 3.0);
+  EXPECT_LT(stored_after_first_lap * 3, taken_after_first_lap);
+  EXPECT_LT(after * 2.0, before);
+  EXPECT_EQ(backend.CorrectedTrajectory().size(), run.odometry.size());
+  for (std::size_t i = 0; i < map.keyframes.size(); ++i) EXPECT_EQ(map.keyframes[i].id, i);
+  for (const LoopConstraint& loop : map.loops) {
+    EXPECT_LT(loop.from, map.keyframes.size());
+    EXPECT_LT(loop.to, map.keyframes.size());
+  }
 }
 
 // Identical corridor segments: a look-alike segment metres away registers perfectly. It may

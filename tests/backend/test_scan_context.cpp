@@ -87,6 +87,17 @@ TEST(ScanContextDatabase, RetrievesTheRevisitedPlaceAndExcludesRecent) {
   // not return it.
   for (const auto& c : database.Query(database.at(29))) EXPECT_LT(c.id, 25u);
   EXPECT_TRUE(ScanContextDatabase(db_config).Query(query).empty());
+
+  // A retired entry (its keyframe dropped its cloud) is never returned again, whether it was
+  // already in the k-d tree or not, and the others still are.
+  database.Retire(10);
+  const auto after = database.Query(query);
+  for (const auto& c : after) EXPECT_NE(c.id, 10u);
+  EXPECT_TRUE(database.at(10).empty());
+  const ScanContext entry_11 = MakeScanContext(simulator.SimulateScan(220).points, config);
+  const auto still = database.Query(entry_11);
+  ASSERT_FALSE(still.empty());
+  EXPECT_EQ(still.front().id, 11u);
 }
 
 }  // namespace

@@ -12,13 +12,17 @@
 
 namespace dammloam::bench {
 
+// Latency runs measure the odometry path alone; a soak runs the daemon as deployed.
+enum class LoopClosure { kOff, kOn };
+
 class DaemonChild {
  public:
   // Starts the dammloamd next to this executable on `domain` with `sensor_meta` as its
-  // --sensor-meta, no loop closure, and `extra_args` (whitespace-separated) appended. Its stdout
-  // and stderr (drop warnings, errors) go to `log`, never into the caller's directories.
+  // --sensor-meta, loop closure as asked, and `extra_args` (whitespace-separated) appended. Its
+  // stdout and stderr (drop warnings, errors) go to `log`, never into the caller's directories.
   DaemonChild(std::uint32_t domain, const std::filesystem::path& sensor_meta,
-              const std::string& extra_args, const std::filesystem::path& log);
+              const std::string& extra_args, const std::filesystem::path& log,
+              LoopClosure loop_closure = LoopClosure::kOff);
   // Stop() unless it already ended.
   ~DaemonChild();
   DaemonChild(const DaemonChild&) = delete;

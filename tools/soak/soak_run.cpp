@@ -57,8 +57,7 @@ fs::path PrepareWorkDir(const SoakOptions& o) {
   return fs::absolute(dir);
 }
 
-// Commands confined to maps/, the back-end on (save_map_on_shutdown runs it without loop
-// closure, which DaemonChild turns off), and a size limit the oversized samples exceed.
+// Commands confined to maps/, a shutdown save, and a size limit the oversized samples exceed.
 fs::path WriteDaemonConfig(const fs::path& work_dir) {
   const fs::path file = work_dir / "dammloamd.yaml";
   std::ofstream out(file);
@@ -108,7 +107,8 @@ class Soak {
     observer_ = std::make_unique<DaemonObserver>(o_.domain);
     daemon_ = std::make_unique<bench::DaemonChild>(o_.domain, WriteSensorMeta(r_.work_dir),
                                                    "--config " + config.string(),
-                                                   r_.work_dir / "logs" / "dammloamd.log");
+                                                   r_.work_dir / "logs" / "dammloamd.log",
+                                                   bench::LoopClosure::kOn);  // as deployed
     rss_ = std::make_unique<RssLog>(daemon_->pid());
     saves_ = std::make_unique<MapSaves>(o_.domain, r_.work_dir / "maps", r_.work_dir / "logs");
     spdlog::info("dammloamd pid {} on domain {}; work directory {}", daemon_->pid(), o_.domain,
