@@ -28,8 +28,9 @@ struct BackendConfig {
   // The nearest keyframe within this distance in the corrected map is verified first.
   double proximity_radius = 3.0;        // metres
   // A new keyframe whose verified loop puts it this close to an older keyframe (one with a cloud,
-  // in the corrected map around the loop's partner) adds nothing the map lacks: it keeps its pose (graph node, scan corrections) and drops its cloud and
-  // descriptor. So memory grows with the area mapped, not with the time spent in it. 0: keep all.
+  // in the corrected map around the loop's partner) adds nothing the map lacks: it keeps its
+  // pose (graph node, scan corrections) and drops its cloud and descriptor. So memory grows
+  // with the area mapped, not with the time spent in it. 0: keep all.
   double revisit_drop_distance = 2.0;   // metres
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres

@@ -15,7 +15,8 @@ using namespace dammloam;
 using namespace dammloam::drivers;
 using namespace dammloam::fuzz;
 
-void Run(std::span<const std::uint8_t> bytes) {
+void Run(Input& in) {
+  const std::span<const std::uint8_t> bytes = in.Rest();
   static const fs::path file = ScratchDir() / "input.pcap";
   WriteFile(file, bytes);
   // The filter is exercised on the port Ouster uses; a datagram for another port is skipped.
@@ -152,12 +153,4 @@ void WriteSeeds(const fs::path& dir, const std::optional<fs::path>& shared) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  SeedModeIfAsked(WriteSeeds);
-  return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  Run(std::span(data, size));
-  return 0;
-}
+DAMMLOAM_FUZZ_TARGET(WriteSeeds, Run)

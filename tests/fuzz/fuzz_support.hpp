@@ -158,3 +158,16 @@ inline void WriteSeed(const fs::path& dir, const std::string& name, std::span<co
 inline fs::path SourceDir() { return fs::path(DAMMLOAM_SOURCE_DIR); }
 
 }  // namespace dammloam::fuzz
+
+// libFuzzer's two entry points for a target: seed mode through `write_seeds`, then every input
+// handed to `run` as an Input. One line per target instead of the same two functions in each.
+#define DAMMLOAM_FUZZ_TARGET(write_seeds, run)                                       \
+  extern "C" int LLVMFuzzerInitialize(int*, char***) {                             \
+    ::dammloam::fuzz::SeedModeIfAsked(write_seeds);                                \
+    return 0;                                                                      \
+  }                                                                                \
+  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
+    ::dammloam::fuzz::Input in(data, size);                                        \
+    run(in);                                                                       \
+    return 0;                                                                      \
+  }

@@ -215,13 +215,4 @@ void WriteSeeds(const fs::path& dir, const std::optional<fs::path>& shared) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  SeedModeIfAsked(WriteSeeds);
-  return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  Input in(data, size);
-  Run(in);
-  return 0;
-}
+DAMMLOAM_FUZZ_TARGET(WriteSeeds, Run)
