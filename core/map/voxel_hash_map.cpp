@@ -8,6 +8,11 @@
 #include <limits>
 
 namespace dammloam {
+namespace {
+
+constexpr std::size_t kPointsPerGrowth = 2;
+
+}  // namespace
 
 VoxelHashMap::VoxelHashMap(double voxel_size, double max_distance, int max_points_per_voxel)
     : voxel_size_(voxel_size),
@@ -56,6 +61,11 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
       return (q.position - p.position).squaredNorm() < min_spacing_sq;
     });
     if (sampled) continue;
+    // A voxel fills one point at a time over many revisits; capacity doubling would leave a
+    // third of the map's memory as slack and make it grow in steps long after the scene is mapped.
+    if (block.points.size() == block.points.capacity()) {
+      block.points.reserve(block.points.size() + kPointsPerGrowth);
+    }
     block.points.insert(block.points.begin() + block.begin[c + 1], p);
     for (std::size_t k = c + 1; k <= kNumPointClasses; ++k) ++block.begin[k];
     ++num_points_;
