@@ -17,12 +17,15 @@ LoopClosingBackend::LoopClosingBackend(const BackendConfig& config)
 
 void LoopClosingBackend::AddScan(const OdometryResult& result) {
   std::lock_guard lock(shared_mutex_);
-  if (!scans_.empty()) {
-    if (result.scan_index <= scans_.back().scan_index) return;  // replayed or out of order
-    path_length_ += (result.T_world_sensor.translation() -
-                     scans_.back().T_world_sensor_odom.translation()).norm();
+  if (last_scan_) {
+    if (result.scan_index <= *last_scan_) return;  // replayed or out of order
+    path_length_ += (result.T_world_sensor.translation() - last_position_).norm();
     covariance_since_keyframe_ += result.covariance;
+  } else {
+    first_scan_ = result.scan_index;
   }
+  last_scan_ = result.scan_index;
+  last_position_ = result.T_world_sensor.translation();
   if (selector_.Consider(result.T_world_sensor)) {
     PendingKeyframe pending;
     Keyframe& kf = pending.keyframe;
@@ -36,10 +39,9 @@ void LoopClosingBackend::AddScan(const OdometryResult& result) {
     if (result.labels.size() == result.deskewed_points.size()) kf.labels = result.labels;
     pending.path_length = path_length_;
     inbox_.push_back(std::move(pending));
+    keyframe_scans_.push_back(result.scan_index);
     covariance_since_keyframe_.setZero();
   }
-  scans_.push_back({result.scan_index, result.stamp, result.T_world_sensor,
-                    next_keyframe_id_ == 0 ? 0 : next_keyframe_id_ - 1});
 }
 
 std::vector<LoopEvent> LoopClosingBackend::Process() {
@@ -190,30 +192,16 @@ void LoopClosingBackend::PublishCorrections() {
 }
 
 std::optional<Eigen::Isometry3d> LoopClosingBackend::CorrectedPoseOf(
-    std::uint64_t scan_index) const {
+    std::uint64_t scan_index, const Eigen::Isometry3d& T_world_sensor_odom) const {
   std::lock_guard lock(shared_mutex_);
-  const auto it = std::lower_bound(
-      scans_.begin(), scans_.end(), scan_index,
-      [](const ScanRecord& r, std::uint64_t index) { return r.scan_index < index; });
-  if (it == scans_.end() || it->scan_index != scan_index) return std::nullopt;
-  if (corrections_.empty()) return it->T_world_sensor_odom;
+  if (!last_scan_ || scan_index < *first_scan_ || scan_index > *last_scan_) return std::nullopt;
+  if (corrections_.empty()) return T_world_sensor_odom;
+  const auto first = keyframe_scans_.begin();
+  const auto after = std::upper_bound(first, keyframe_scans_.end(), scan_index);
+  const std::size_t at_or_before = after == first ? 0 : static_cast<std::size_t>(after - first) - 1;
   // Keyframes still in the inbox use the newest correction available.
-  const std::size_t k = std::min<std::size_t>(it->keyframe, corrections_.size() - 1);
-  return Normalized(corrections_[k] * it->T_world_sensor_odom);
-}
-
-std::vector<CorrectedPose> LoopClosingBackend::CorrectedTrajectory() const {
-  std::lock_guard lock(shared_mutex_);
-  std::vector<CorrectedPose> trajectory;
-  trajectory.reserve(scans_.size());
-  for (const ScanRecord& r : scans_) {
-    Eigen::Isometry3d T = r.T_world_sensor_odom;
-    if (!corrections_.empty()) {
-      T = Normalized(corrections_[std::min<std::size_t>(r.keyframe, corrections_.size() - 1)] * T);
-    }
-    trajectory.push_back({r.scan_index, r.stamp, T});
-  }
-  return trajectory;
+  const std::size_t k = std::min(at_or_before, corrections_.size() - 1);
+  return Normalized(corrections_[k] * T_world_sensor_odom);
 }
 
 std::size_t LoopClosingBackend::NumKeyframes() const {

@@ -39,20 +39,13 @@ struct BackendConfig {
   bool operator==(const BackendConfig&) const = default;
 };
 
-// Corrected pose of one odometry scan.
-struct CorrectedPose {
-  std::uint64_t scan_index = 0;
-  double stamp = 0.0;
-  Eigen::Isometry3d T_world_sensor = Eigen::Isometry3d::Identity();
-};
-
 // The back-end facade used by dammloam-odometry and dammloamd.
 //
 // Threading: AddScan() is cheap and meant for the odometry thread; Process() does all heavy
 // work (descriptors, retrieval, verification, Ceres) and is meant for ONE back-end thread owned
 // by the caller. They share only a mutex-protected inbox and the table of pose corrections, each
-// locked briefly, so the odometry thread never waits for an optimisation. CorrectedPose(),
-// CorrectedTrajectory() may be called from any thread. ExportMap()/NumKeyframes() wait for a
+// locked briefly, so the odometry thread never waits for an optimisation. CorrectedPoseOf() may be
+// called from any thread. ExportMap()/NumKeyframes() wait for a
 // running Process() to finish.
 class LoopClosingBackend {
  public:
@@ -64,9 +57,12 @@ class LoopClosingBackend {
   // Returns every loop candidate examined (accepted or rejected).
   std::vector<LoopEvent> Process();
 
-  // Odometry pose of the scan corrected by the latest optimisation; nullopt for unknown scans.
-  std::optional<Eigen::Isometry3d> CorrectedPoseOf(std::uint64_t scan_index) const;
-  std::vector<CorrectedPose> CorrectedTrajectory() const;
+  // The odometry pose of a scan corrected by the latest optimisation (the correction of the
+  // keyframe at or before it); nullopt outside the scans added so far. The caller keeps its
+  // odometry poses: the back-end keeps nothing per scan, so a daemon's memory does not grow
+  // with its uptime.
+  std::optional<Eigen::Isometry3d> CorrectedPoseOf(
+      std::uint64_t scan_index, const Eigen::Isometry3d& T_world_sensor_odom) const;
 
   std::size_t NumKeyframes() const;
   // Keyframes that still hold a cloud (the others were revisits, see revisit_drop_distance).
@@ -77,12 +73,6 @@ class LoopClosingBackend {
   MapData ExportMap() const;
 
  private:
-  struct ScanRecord {
-    std::uint64_t scan_index;
-    double stamp;
-    Eigen::Isometry3d T_world_sensor_odom;
-    std::uint32_t keyframe;  // the keyframe at or before this scan
-  };
   struct PendingKeyframe {
     Keyframe keyframe;       // cloud not yet downsampled, no descriptor
     double path_length;      // odometry distance from the first scan
@@ -105,7 +95,9 @@ class LoopClosingBackend {
   mutable std::mutex shared_mutex_;
   KeyframeSelector selector_;
   std::vector<PendingKeyframe> inbox_;
-  std::vector<ScanRecord> scans_;
+  std::optional<std::uint64_t> first_scan_, last_scan_;
+  Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
+  std::vector<std::uint64_t> keyframe_scans_;   // per keyframe: its scan index, ascending
   std::vector<Eigen::Isometry3d> corrections_;  // per keyframe: T_corrected * T_odom^-1
   std::uint32_t next_keyframe_id_ = 0;
   double path_length_ = 0.0;

@@ -69,7 +69,7 @@ std::vector<io::StampedPose> CorrectedTrajectory(const backend::LoopClosingBacke
   corrected.reserve(odometry.size());
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
   for (std::size_t i = 0; i < odometry.size(); ++i) {
-    if (const auto T = backend.CorrectedPoseOf(scan_indices[i])) {
+    if (const auto T = backend.CorrectedPoseOf(scan_indices[i], odometry[i].T)) {
       correction = *T * odometry[i].T.inverse();
       corrected.push_back({odometry[i].t, *T});
     } else {
