@@ -34,4 +34,14 @@ void ReturnFreedMemory() {
 #endif
 }
 
+void ReturnFreedMemoryEagerly(std::size_t keep_free_bytes) {
+#if defined(__GLIBC__)
+  constexpr int kLargestArenaBlock = 32 << 20;  // glibc's own ceiling for the dynamic threshold
+  mallopt(M_MMAP_THRESHOLD, kLargestArenaBlock);
+  mallopt(M_TRIM_THRESHOLD, static_cast<int>(keep_free_bytes));
+#else
+  (void)keep_free_bytes;
+#endif
+}
+
 }  // namespace dammloam::io

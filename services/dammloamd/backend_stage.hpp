@@ -57,6 +57,7 @@ class LoopClosureStage {
   void ProcessQueued();
   void ServeSaves(std::vector<SaveRequest>& saves);
   CommandOutcome Save(const std::filesystem::path& dir) const;
+  CommandOutcome SaveOnOwnThread(const std::filesystem::path& dir) const;
   void Publish(const backend::LoopEvent& e);
 
   std::string map_frame_;

@@ -12,6 +12,7 @@
 #include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 #include "io/io_error.hpp"
+#include "io/process_memory.hpp"
 #include "io/sequence_meta.hpp"
 
 namespace {
@@ -104,6 +105,10 @@ int main(int argc, char** argv) {
     spdlog::error("{}", problem);
     return 2;
   }
+
+  // A save's copy of the map or a loop check's clouds must not stay resident for the
+  // daemon's lifetime; 8 MiB free per arena absorbs one scan's buffers.
+  dammloam::io::ReturnFreedMemoryEagerly(std::size_t{8} << 20);
 
   // Block the stop signals in every thread (Cyclone's included); main waits for them below.
   sigset_t stop_signals;
