@@ -93,6 +93,7 @@ void ReadLoopClosing(Section s, BackendConfig& c) {
   s.Get("max_verifications_per_keyframe", c.max_verifications_per_keyframe);
   s.Get("proximity_radius", c.proximity_radius);
   s.Get("revisit_drop_distance", c.revisit_drop_distance);
+  s.Get("loop_optimize_residual", c.loop_optimize_residual);
   s.Get("loop_translation_sigma", c.loop_translation_sigma);
   s.Get("loop_rotation_sigma", c.loop_rotation_sigma);
   s.RejectUnknownKeys();
@@ -218,6 +219,7 @@ void ValidateBackendConfig(const backend::BackendParameters& config, const std::
   check.AtLeast(b.max_verifications_per_keyframe, 0, lc + "max_verifications_per_keyframe");
   check.NonNegative(b.proximity_radius, lc + "proximity_radius");
   check.NonNegative(b.revisit_drop_distance, lc + "revisit_drop_distance");  // 0: keep every cloud
+  check.NonNegative(b.loop_optimize_residual, lc + "loop_optimize_residual");  // 0: always
   check.NonNegative(b.loop_translation_sigma, lc + "loop_translation_sigma");
   check.NonNegative(b.loop_rotation_sigma, lc + "loop_rotation_sigma");
 

@@ -52,21 +52,31 @@ std::vector<LoopEvent> LoopClosingBackend::Process() {
     pending.swap(inbox_);
   }
   std::vector<LoopEvent> events;
-  bool loop_added = false;
+  bool disagrees = false;
   for (PendingKeyframe& p : pending) {
     const std::uint32_t id = p.keyframe.id;
     IntegrateKeyframe(std::move(p));
-    for (LoopEvent& event : DetectLoops(id)) {
-      loop_added = loop_added || event.accepted;
-      events.push_back(std::move(event));
-    }
+    for (LoopEvent& event : DetectLoops(id, disagrees)) events.push_back(std::move(event));
   }
-  if (loop_added) {
-    graph_.Optimize();
-    for (Keyframe& kf : keyframes_) kf.T_world_sensor = graph_.Pose(kf.id);
+  if (disagrees) {
+    Optimize();
+  } else if (!pending.empty()) {
+    PublishCorrections(keyframes_.size() - pending.size());
   }
-  if (!pending.empty()) PublishCorrections();
   return events;
+}
+
+void LoopClosingBackend::OptimizePendingLoops() {
+  std::lock_guard process_lock(process_mutex_);
+  if (loops_since_solve_) Optimize();
+}
+
+void LoopClosingBackend::Optimize() {
+  graph_.Optimize();
+  ++optimizations_;
+  loops_since_solve_ = false;
+  for (Keyframe& kf : keyframes_) kf.T_world_sensor = graph_.Pose(kf.id);
+  PublishCorrections(0);
 }
 
 void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
@@ -97,6 +107,7 @@ void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
   database_.Add(kf.descriptor);
   keyframe_path_.push_back(pending.path_length);
   dropped_.push_back(0);
+  stored_.push_back(kf.id);
   keyframes_.push_back(std::move(kf));
 }
 
@@ -106,8 +117,8 @@ std::optional<ScanContextCandidate> LoopClosingBackend::NearestOldKeyframe(
   const auto exclude = static_cast<std::uint32_t>(std::max(0, config_.database.exclude_recent));
   std::optional<std::uint32_t> nearest;
   double best = config_.proximity_radius;
-  for (std::uint32_t id = 0; id + exclude < query_id; ++id) {
-    if (!HasCloud(id)) continue;
+  for (const std::uint32_t id : stored_) {
+    if (id + exclude >= query_id) break;
     const double d = (keyframes_[id].T_world_sensor.translation() - position).norm();
     if (d < best) {
       best = d;
@@ -119,7 +130,7 @@ std::optional<ScanContextCandidate> LoopClosingBackend::NearestOldKeyframe(
       *nearest, CompareScanContexts(keyframes_[query_id].descriptor, keyframes_[*nearest].descriptor)};
 }
 
-std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
+std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id, bool& disagrees) {
   std::vector<LoopEvent> events;
   const Keyframe& query = keyframes_[query_id];
   // The nearest old keyframe in the corrected map goes first: where drift is still small it is
@@ -145,6 +156,8 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
       covariance.diagonal().tail<3>().array() +=
           config_.loop_rotation_sigma * config_.loop_rotation_sigma;
       graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
+      loops_since_solve_ = true;
+      disagrees = disagrees || graph_.LastEdgeResidual() > config_.loop_optimize_residual;
       loops_.push_back({old.id, query.id, event.T_candidate_query});
       // Where the loop puts the query, next to the old keyframe: the corrected map is locally
       // consistent there even when the query's own corrected pose is still off by the drift.
@@ -164,8 +177,8 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id) {
 double LoopClosingBackend::DistanceToStoredKeyframe(const Eigen::Vector3d& position,
                                                     std::uint32_t query_id) const {
   double nearest = std::numeric_limits<double>::infinity();
-  for (std::uint32_t id = 0; id < query_id; ++id) {
-    if (!HasCloud(id)) continue;
+  for (const std::uint32_t id : stored_) {
+    if (id >= query_id) break;
     nearest = std::min(nearest, (keyframes_[id].T_world_sensor.translation() - position).norm());
   }
   return nearest;
@@ -179,16 +192,22 @@ void LoopClosingBackend::DropCloud(std::uint32_t id) {
   kf.descriptor = ScanContext{};
   database_.Retire(id);
   dropped_[id] = 1;
+  // The query is the newest keyframe, the last one stored.
+  if (const auto it = std::find(stored_.rbegin(), stored_.rend(), id); it != stored_.rend()) {
+    stored_.erase(std::next(it).base());
+  }
 }
 
-void LoopClosingBackend::PublishCorrections() {
+void LoopClosingBackend::PublishCorrections(std::size_t first) {
   std::vector<Eigen::Isometry3d> corrections;
-  corrections.reserve(keyframes_.size());
-  for (const Keyframe& kf : keyframes_) {
+  corrections.reserve(keyframes_.size() - first);
+  for (std::size_t id = first; id < keyframes_.size(); ++id) {
+    const Keyframe& kf = keyframes_[id];
     corrections.push_back(kf.T_world_sensor * kf.T_world_sensor_odom.inverse());
   }
   std::lock_guard lock(shared_mutex_);
-  corrections_ = std::move(corrections);
+  corrections_.resize(first);
+  corrections_.insert(corrections_.end(), corrections.begin(), corrections.end());
 }
 
 std::optional<Eigen::Isometry3d> LoopClosingBackend::CorrectedPoseOf(
@@ -216,7 +235,12 @@ std::size_t LoopClosingBackend::NumAcceptedLoops() const {
 
 std::size_t LoopClosingBackend::NumStoredKeyframes() const {
   std::lock_guard lock(process_mutex_);
-  return static_cast<std::size_t>(std::count(dropped_.begin(), dropped_.end(), 0));
+  return stored_.size();
+}
+
+std::size_t LoopClosingBackend::NumOptimizations() const {
+  std::lock_guard lock(process_mutex_);
+  return optimizations_;
 }
 
 MapData LoopClosingBackend::ExportMap() const {

@@ -32,6 +32,11 @@ struct BackendConfig {
   // pose (graph node, scan corrections) and drops its cloud and descriptor. So memory grows
   // with the area mapped, not with the time spent in it. 0: keep all.
   double revisit_drop_distance = 2.0;   // metres
+  // An accepted loop whose edge disagrees with the current map by no more than this (whitened
+  // residual norm, with the sigmas below) is added to the graph without a new optimisation:
+  // it would move nothing. So going round mapped ground costs no solves, which grow with the
+  // graph; a loop after real drift still starts one. 0: optimise after every accepted loop.
+  double loop_optimize_residual = 1.0;
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres
   double loop_rotation_sigma = 0.01;    // radians
@@ -53,9 +58,13 @@ class LoopClosingBackend {
 
   // Records the scan's odometry pose; copies its cloud when it becomes a keyframe.
   void AddScan(const OdometryResult& result);
-  // Integrates queued keyframes, detects and verifies loops, optimises when a loop is accepted.
+  // Integrates queued keyframes, detects and verifies loops, optimises when an accepted loop
+  // disagrees with the map (loop_optimize_residual).
   // Returns every loop candidate examined (accepted or rejected).
   std::vector<LoopEvent> Process();
+  // Solves the graph if loops were added since the last solve (loop_optimize_residual lets
+  // agreeing loops wait): an offline run's final trajectory uses every loop it found.
+  void OptimizePendingLoops();
 
   // The odometry pose of a scan corrected by the latest optimisation (the correction of the
   // keyframe at or before it); nullopt outside the scans added so far. The caller keeps its
@@ -68,6 +77,8 @@ class LoopClosingBackend {
   // Keyframes that still hold a cloud (the others were revisits, see revisit_drop_distance).
   std::size_t NumStoredKeyframes() const;
   std::size_t NumAcceptedLoops() const;
+  // Pose graph optimisations run so far (see loop_optimize_residual).
+  std::size_t NumOptimizations() const;
   // Keyframes that hold a cloud (renumbered densely), the loops between them and the global
   // labelled map, for saving or localization.
   MapData ExportMap() const;
@@ -79,10 +90,13 @@ class LoopClosingBackend {
   };
 
   void IntegrateKeyframe(PendingKeyframe pending);
-  std::vector<LoopEvent> DetectLoops(std::uint32_t query_id);
+  // `disagrees`: set when an accepted loop disagrees with the map (loop_optimize_residual).
+  std::vector<LoopEvent> DetectLoops(std::uint32_t query_id, bool& disagrees);
   // Oldest-excluded nearest keyframe within proximity_radius of the query, if any.
   std::optional<ScanContextCandidate> NearestOldKeyframe(std::uint32_t query_id) const;
-  void PublishCorrections();
+  // Publishes the corrections of keyframes `first` onwards.
+  void PublishCorrections(std::size_t first);
+  void Optimize();
   // Corrected-map distance from `position` to the nearest older keyframe that holds a cloud.
   double DistanceToStoredKeyframe(const Eigen::Vector3d& position, std::uint32_t query_id) const;
   void DropCloud(std::uint32_t id);
@@ -108,9 +122,12 @@ class LoopClosingBackend {
   std::vector<Keyframe> keyframes_;
   std::vector<double> keyframe_path_;
   std::vector<char> dropped_;  // per keyframe: cloud and descriptor dropped (a revisit)
+  std::vector<std::uint32_t> stored_;  // keyframes with a cloud, ascending
   std::vector<LoopConstraint> loops_;
   ScanContextDatabase database_;
   PoseGraph graph_;
+  std::size_t optimizations_ = 0;
+  bool loops_since_solve_ = false;
 };
 
 }  // namespace dammloam::backend

@@ -122,6 +122,10 @@ double PoseGraph::WhitenedNorm(const Edge& e) const {
   return Eigen::Map<const Vector6d>(residual).norm();
 }
 
+double PoseGraph::LastEdgeResidual() const {
+  return edges_.empty() ? 0.0 : WhitenedNorm(edges_.back());
+}
+
 std::vector<double> PoseGraph::LoopResiduals() const {
   std::vector<double> out;
   for (const Edge& e : edges_) {

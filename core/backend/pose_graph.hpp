@@ -58,6 +58,8 @@ class PoseGraph {
   std::size_t NumRejectedLoops() const;
   // Whitened residual norm of every loop edge at the current poses, in insertion order.
   std::vector<double> LoopResiduals() const;
+  // Whitened residual norm of the edge added last, at the current poses.
+  double LastEdgeResidual() const;
   Eigen::Isometry3d Pose(std::uint32_t id) const;
   void SetPose(std::uint32_t id, const Eigen::Isometry3d& T_world_node);
 

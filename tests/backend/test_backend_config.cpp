@@ -54,6 +54,7 @@ loop_closing:
     min_observed_directions: 3
   pose_graph: {max_prune_rounds: 0}
   max_verifications_per_keyframe: 0
+  loop_optimize_residual: 0.0
 localizer:
   max_registrations: 2
   track_icp: {final_max_correspondence: 0.4, min_direction_support: 5.0}
@@ -73,6 +74,7 @@ localizer:
   EXPECT_EQ(c.loop_closing.verifier.min_observed_directions, 3);
   EXPECT_EQ(c.loop_closing.pose_graph.max_prune_rounds, 0);
   EXPECT_EQ(c.loop_closing.max_verifications_per_keyframe, 0);
+  EXPECT_DOUBLE_EQ(c.loop_closing.loop_optimize_residual, 0.0);
   EXPECT_EQ(c.localizer.max_registrations, 2);
   EXPECT_DOUBLE_EQ(c.localizer.track_icp.final_max_correspondence, 0.4);
   EXPECT_DOUBLE_EQ(c.localizer.track_icp.min_direction_support, 5.0);

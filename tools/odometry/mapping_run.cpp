@@ -135,6 +135,7 @@ int RunMapping(const RunnerOptions& o) {
   std::vector<io::StampedPose> corrected;
   if (backend) {
     events.Write(backend->Process());
+    backend->OptimizePendingLoops();
     corrected = CorrectedTrajectory(*backend, odometry, scan_indices);
   }
   io::WriteTum(o.out, o.loop_closure ? corrected : odometry);
