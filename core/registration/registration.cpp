@@ -229,6 +229,26 @@ void AddMotionPrior(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_pred,
   b.noalias() += JtW * e;
 }
 
+// Freshly searched pairs pull the estimate only part of the way to where the next search
+// settles: on the realistic presets successive Gauss-Newton steps point the same way and
+// shrink by a ratio rho of ~0.4-0.5 per search, so the remaining way is about dx / (1 - rho)
+// (Aitken's extrapolation of a geometric series; AA-ICP, Pavlov et al. 2018, accelerates ICP
+// for the same reason). Only steps that repeat the previous direction are stretched, by at
+// most max_factor: a step that overshoots is corrected by the next search.
+Vector6d Extrapolated(const Vector6d& dx, const Vector6d& previous_dx, double max_factor) {
+  constexpr double kSameDirection = 0.9;  // cosine between successive steps
+  const double norm = dx.norm();
+  const double previous_norm = previous_dx.norm();
+  if (!(max_factor > 1.0) || !(norm > 0.0) || !(previous_norm > norm)) return dx;
+  if (dx.dot(previous_dx) < kSameDirection * norm * previous_norm) return dx;
+  // A step much shorter than the last is the pairs settling, not a geometric tail (which at
+  // such a ratio is short anyway): stretching it would only add noise.
+  constexpr double kMinRatio = 0.3;
+  const double rho = norm / previous_norm;
+  if (rho < kMinRatio) return dx;
+  return std::min(max_factor, 1.0 / (1.0 - rho)) * dx;
+}
+
 // Returns the largest distance a point moved.
 double Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
   double moved_sq = 0.0;
@@ -269,6 +289,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
 
   CorrespondenceSet pairs;
   double moved_since_search = std::numeric_limits<double>::infinity();
+  Vector6d previous_dx = Vector6d::Zero();
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
     const bool reuse_pairs = moved_since_search < config.correspondence_reuse_distance;
     if (!reuse_pairs) {
@@ -326,7 +347,10 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
       RemapDegenerateTranslation(planar_report, dx);
     }
     if (!dx.allFinite()) break;
-    const Eigen::Isometry3d step = ExpSE3(dx);
+    const Vector6d applied =
+        reuse_pairs ? dx : Extrapolated(dx, previous_dx, config.max_step_extrapolation);
+    previous_dx = reuse_pairs ? Vector6d::Zero() : dx;
+    const Eigen::Isometry3d step = ExpSE3(applied);
     moved_since_search += Transform(step, source_world);
     MoveSources(step, pairs);
     result.T_world_sensor = step * result.T_world_sensor;

@@ -37,17 +37,21 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   EXPECT_DOUBLE_EQ(loaded.threshold_range_factor, defaults.threshold_range_factor);
   EXPECT_EQ(loaded.preprocess.range_image.max_auto_cols,
             defaults.preprocess.range_image.max_auto_cols);
+  EXPECT_DOUBLE_EQ(loaded.registration.max_step_extrapolation,
+                   defaults.registration.max_step_extrapolation);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
   const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
-      "registration: {mode: plane_only, max_iterations: 7}\nmap: {voxel_size: 0.4}\n"
+      "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0}\n"
+      "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"));
   EXPECT_EQ(c.registration.mode, RegistrationMode::kPlaneOnly);
   EXPECT_EQ(c.registration.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
   EXPECT_DOUBLE_EQ(c.preprocess.classifier.edge_angle_deg, 20.0);
   EXPECT_FALSE(c.deskew);
+  EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
   EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
 }
 
@@ -60,6 +64,9 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("map: {max_distance: -5}").find("map.max_distance"), std::string::npos);
   EXPECT_NE(ErrorOf("preprocess: {range_image: {max_auto_cols: -1}}")
                 .find("preprocess.range_image.max_auto_cols"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
+                .find("registration.max_step_extrapolation"),
             std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
