@@ -1,16 +1,15 @@
 #pragma once
 #include <Eigen/Core>
-#include <tsl/robin_set.h>
 #include <vector>
 
+#include "core/geometry/first_per_cell.hpp"
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/voxel.hpp"
 
 namespace dammloam {
 
 // One point per (voxel, class), first come: what goes into the map. Keeping classes apart
-// means a wall point never hides the floor point sharing its voxel. The hash table is kept
-// between scans: sized for a whole scan, allocating it anew cost more than the sampling.
+// means a wall point never hides the floor point sharing its voxel.
 class ClassVoxelSampler {
  public:
   // Indices (ascending) of the kept points; a point without a label counts as unknown.
@@ -18,7 +17,7 @@ class ClassVoxelSampler {
                                   const std::vector<PointClass>& labels, double voxel_size);
 
  private:
-  tsl::robin_set<ClassVoxel, ClassVoxelHash> seen_;
+  FirstPerCell first_per_cell_;  // scratch, kept between scans
 };
 
 }  // namespace dammloam

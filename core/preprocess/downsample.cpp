@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "core/geometry/voxel.hpp"
 
@@ -34,21 +33,8 @@ ClassAwareDownsampler::ClassAwareDownsampler(const DownsampleConfig& config) : c
 
 std::vector<std::size_t> ClassAwareDownsampler::Select(const std::vector<Eigen::Vector3d>& points,
                                                        const std::vector<PointClass>& labels) {
-  std::vector<std::size_t> kept;
-  if (labels.size() != points.size()) return kept;
-  grid_.clear();  // keeps its buckets: no allocation once the first scans sized it
-  grid_.reserve(points.size() / 4 + 1);
-  kept.reserve(std::min(points.size(), 2 * config_.target_points));
-  // Consecutive points (one firing, top to bottom) often share a cell; the second one cannot be
-  // kept whatever the table says, so it skips the lookup.
-  std::optional<ClassVoxel> previous;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::size_t c = std::min<std::size_t>(Index(labels[i]), kNumPointClasses - 1);
-    const ClassVoxel key{PointToVoxel(points[i], voxel_sizes_[c]), labels[i]};
-    if (previous == key) continue;
-    previous = key;
-    if (grid_.insert(key).second) kept.push_back(i);
-  }
+  if (labels.size() != points.size()) return {};
+  std::vector<std::size_t> kept = first_per_cell_.Select(points, labels, voxel_sizes_);
   Adapt(kept.size());
   return kept;
 }

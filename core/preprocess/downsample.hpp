@@ -2,9 +2,9 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
-#include <tsl/robin_set.h>
 #include <vector>
 
+#include "core/geometry/first_per_cell.hpp"
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/voxel.hpp"
 #include "core/preprocess/preprocess_config.hpp"
@@ -37,7 +37,7 @@ class ClassAwareDownsampler {
 
   DownsampleConfig config_;
   std::array<double, kNumPointClasses> voxel_sizes_;
-  tsl::robin_set<ClassVoxel, ClassVoxelHash> grid_;  // scratch, kept between scans
+  FirstPerCell first_per_cell_;  // scratch, kept between scans
 };
 
 }  // namespace dammloam

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <random>
+#include <tsl/robin_set.h>
 
+#include "core/geometry/first_per_cell.hpp"
 #include "core/geometry/voxel.hpp"
 
 namespace dammloam {
@@ -50,6 +54,32 @@ TEST(VoxelDownsample, OnePointPerVoxelFirstComeDeterministic) {
   // Negative coordinates: floor, not truncation, so -0.5 and 0.5 are different voxels.
   EXPECT_EQ(VoxelDownsample({{-0.5, 0, 0}, {0.5, 0, 0}}, 1.0).size(), 2u);
   EXPECT_EQ(PointToVoxel({-0.5, 0.5, -1.0}, 1.0), Voxel(-1, 0, -1));
+}
+
+// The partitioned, parallel selection must keep exactly what one sequential first-come pass
+// over the points keeps, scan after scan (the tables are reused), with per-class grids.
+TEST(FirstPerCell, EqualsOneSequentialPass) {
+  FirstPerCell first_per_cell;
+  const std::array<double, kNumPointClasses> sizes{2.0, 0.8, 0.8, 0.5, 1.5};
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    LabelledPoints cloud = Cloud(seed, 0.1 * seed);
+    std::shuffle(cloud.labels.begin(), cloud.labels.begin() + 1000, std::mt19937(seed));
+    tsl::robin_set<ClassVoxel, ClassVoxelHash> seen;
+    std::vector<std::size_t> expected;
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+      const ClassVoxel cell{PointToVoxel(cloud.points[i], sizes[Index(cloud.labels[i])]),
+                            cloud.labels[i]};
+      if (seen.insert(cell).second) expected.push_back(i);
+    }
+    const std::vector<std::size_t> kept = first_per_cell.Select(cloud.points, cloud.labels, sizes);
+    ASSERT_GT(expected.size(), 1000u);
+    EXPECT_EQ(kept, expected) << "seed " << seed;
+  }
+  // Missing labels count as unknown.
+  const LabelledPoints cloud = Cloud(4);
+  const std::vector<std::size_t> unlabelled = first_per_cell.Select(cloud.points, {}, sizes);
+  const std::vector<PointClass> unknown(cloud.points.size(), PointClass::Unknown);
+  EXPECT_EQ(unlabelled, first_per_cell.Select(cloud.points, unknown, sizes));
 }
 
 TEST(ClassAwareDownsampler, KeepsOnePointPerVoxelPerClass) {
