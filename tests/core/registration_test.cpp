@@ -383,7 +383,7 @@ struct NoisyRoomRegistration {
 TEST(Registration, ExtrapolatedStepsSkipTheGeometricTail) {
   const NoisyRoomRegistration room(3);
   const RegistrationResult plain = room.Run(1.0);
-  const RegistrationResult extrapolated = room.Run(2.0);
+  const RegistrationResult extrapolated = room.Run(RegistrationConfig{}.max_step_extrapolation);
   ASSERT_TRUE(plain.converged);
   ASSERT_TRUE(extrapolated.converged);
   EXPECT_EQ(plain.searches, plain.iterations);
@@ -402,7 +402,7 @@ TEST(Registration, ExtrapolatedStepsSkipTheGeometricTail) {
 TEST(Registration, ExtrapolationLeavesFastConvergenceAlone) {
   const NoisyRoomRegistration room(0);
   const RegistrationResult plain = room.Run(1.0);
-  const RegistrationResult extrapolated = room.Run(2.0);
+  const RegistrationResult extrapolated = room.Run(RegistrationConfig{}.max_step_extrapolation);
   ASSERT_TRUE(plain.converged);
   ASSERT_TRUE(extrapolated.converged);
   EXPECT_LE(extrapolated.searches, plain.searches);
