@@ -140,7 +140,9 @@ TEST(OdometryIntegration, MapSizeIsBoundedOnALongDrive) {
   };
   const auto [cropped_first, cropped_second] = map_points(8.0);
   EXPECT_GT(cropped_first, 1000u);
-  EXPECT_LT(double(cropped_second), 1.1 * double(cropped_first)) << "cropped map kept growing";
+  // How many points the 8 m ball holds depends on where the rings fell: 1.06-1.11 over
+  // trajectories that differ by a millimetre per scan (stretch factors 1.0-2.0); uncropped 1.39.
+  EXPECT_LT(double(cropped_second), 1.15 * double(cropped_first)) << "cropped map kept growing";
   const auto [kept_first, kept_second] = map_points(1000.0);
   EXPECT_GT(double(kept_second), 1.5 * double(cropped_second)) << "the drive does not test the crop";
 }
