@@ -130,14 +130,21 @@ Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d
 
 Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan) {
   const std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
-  return {Gather(scan.scan.points, idx), Gather(scan.labels, idx)};
+  SourcePoints source{Gather(scan.scan.points, idx), Gather(scan.labels, idx), {}};
+  if (config_.deskew && scan.scan.has_times()) {
+    source.times = Gather(scan.scan.times, idx);
+    const float half = static_cast<float>(0.5 * sensor_.scan_period);
+    for (float& t : source.times) t -= half;
+  }
+  return source;
 }
 
 MotionPrior Odometry::Prior(double dt, bool holds) {
   if (!UsesMotionPrior(config_.registration.mode)) return {holds, {}, 0.0};
   const Eigen::Matrix3d covariance = translation_filter_.Predict(dt);
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
-          config_.max_angular_acceleration * dt * dt};
+          config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
+          config_.in_scan_rate_sigma};
 }
 
 Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
@@ -206,6 +213,8 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   } else {
     const RegistrationResult reg = RegisterFrame(frame, dt);
     result.timings.registration_ms = watch.LapMs();
+    if (reg.enough_correspondences) CorrectInScanMotion(frame, reg.scan_twist);
+    result.timings.deskew_ms += watch.LapMs();
     Describe(reg, result);
     if (!reg.enough_correspondences) return Unregistered(std::move(result), frame);
     T_new = reg.T_world_sensor;
@@ -283,7 +292,19 @@ RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrio
   }
   const double sigma = threshold_.Sigma();
   return RegisterScan(frame.source.points, frame.source.labels, map_, frame.T_guess,
-                      kGateSigmas * sigma, sigma / kGateSigmas, registration, prior);
+                      kGateSigmas * sigma, sigma / kGateSigmas, registration, prior,
+                      frame.source.times);
+}
+
+// Registration measured how the scan's own motion departs from the velocity it was deskewed
+// with: the scan is deskewed again by that departure, so that the map and the published cloud
+// get the points where the registration put them.
+void Odometry::CorrectInScanMotion(Frame& frame, const Vector6d& scan_twist) const {
+  if (scan_twist.isZero(0.0)) return;
+  const double period = sensor_.scan_period;
+  const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * period * scan_twist);
+  DeskewScan(frame.scan, ExpSE3(period * scan_twist), period, T_mid_start);
+  frame.T_mid_start = T_mid_start * frame.T_mid_start;
 }
 
 // Deskew again with the motion just measured and refine from there: a sensor that starts

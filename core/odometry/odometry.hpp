@@ -50,6 +50,7 @@ class Odometry {
   struct SourcePoints {
     std::vector<Eigen::Vector3d> points;
     std::vector<PointClass> labels;
+    std::vector<float> times;  // firing time relative to mid-scan, s (empty without deskew)
   };
   // One scan on its way through RegisterAndUpdate.
   struct Frame {
@@ -64,6 +65,7 @@ class Odometry {
   SourcePoints SelectSource(const ClassifiedScan& scan);
   // The constant-velocity prediction's prior over a scan interval dt.
   MotionPrior Prior(double dt, bool holds);
+  void CorrectInScanMotion(Frame& frame, const Vector6d& scan_twist) const;
   // Full mode: the velocity after a registration, from the translation filter.
   Vector6d FilteredVelocity(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T_new,
                             const RegistrationResult& reg, double dt);

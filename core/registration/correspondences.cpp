@@ -28,7 +28,8 @@ PairKind Classify(RegistrationMode mode, PointClass source_label, const MapPoint
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
-                                      RegistrationMode mode, bool unknown_defers_to_map) {
+                                      RegistrationMode mode, bool unknown_defers_to_map,
+                                      const std::vector<float>& times) {
   const std::size_t n = source_world.size();
   std::vector<const MapPoint*> match(n, nullptr);
   std::vector<PairKind> kind(n, PairKind::kNone);
@@ -49,7 +50,8 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
   for (std::size_t i = 0; i < n; ++i) {
     if (kind[i] == PairKind::kNone) continue;
     const Correspondence c{source_world[i], match[i]->position,
-                           match[i]->normal.cast<double>().normalized()};
+                           match[i]->normal.cast<double>().normalized(),
+                           i < times.size() ? double{times[i]} : 0.0};
     (kind[i] == PairKind::kPlanar ? out.planar : out.point).push_back(c);
   }
   return out;

@@ -14,6 +14,7 @@ struct Correspondence {
   Eigen::Vector3d source;
   Eigen::Vector3d target;
   Eigen::Vector3d normal;
+  double time = 0.0;  // the source point's firing time relative to the registered frame's, s
 };
 
 struct CorrespondenceSet {
@@ -31,6 +32,7 @@ struct CorrespondenceSet {
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
-                                      RegistrationMode mode, bool unknown_defers_to_map = true);
+                                      RegistrationMode mode, bool unknown_defers_to_map = true,
+                                      const std::vector<float>& times = {});
 
 }  // namespace dammloam

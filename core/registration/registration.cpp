@@ -20,18 +20,24 @@ namespace dammloam {
 
 namespace {
 
-// Normal equations of the weighted objective; tangent order [t; r] (see degeneracy_weights.hpp).
-struct LinearSystem {
-  Matrix6d H = Matrix6d::Zero();
-  Vector6d b = Vector6d::Zero();
+// Normal equations of the weighted objective; tangent order [t; r] (see degeneracy_weights.hpp)
+// and, with in-scan motion (N = 12), then [v; w] of the scan's own twist (world frame, about
+// the sensor position).
+template <int N>
+struct NormalEquations {
+  Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
+  Eigen::Matrix<double, N, 1> b = Eigen::Matrix<double, N, 1>::Zero();
   double chi2 = 0.0;  // weighted squared residual sum
-  LinearSystem& operator+=(const LinearSystem& o) {
+  NormalEquations& operator+=(const NormalEquations& o) {
     H += o.H;
     b += o.b;
     chi2 += o.chi2;
     return *this;
   }
 };
+using LinearSystem = NormalEquations<6>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+using Vector12d = Eigen::Matrix<double, 12, 1>;
 
 // Geman-McClure IRLS weight, KISS-ICP's form.
 double RobustWeight(double residual_sq, double kernel_scale) {
@@ -41,25 +47,33 @@ double RobustWeight(double residual_sq, double kernel_scale) {
 
 // Fixed-size blocks and a deterministic reduction: the sum's rounding does not depend on
 // thread scheduling, so identical inputs give bit-identical poses.
-template <typename Fn>
-LinearSystem ReduceDeterministic(std::size_t n, Fn add_term) {
+template <typename System, typename Fn>
+System ReduceDeterministic(std::size_t n, Fn add_term) {
   return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 512), LinearSystem{},
-      [&](const tbb::blocked_range<std::size_t>& r, LinearSystem acc) {
+      tbb::blocked_range<std::size_t>(0, n, 512), System{},
+      [&](const tbb::blocked_range<std::size_t>& r, System acc) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) add_term(i, acc);
         return acc;
       },
-      [](LinearSystem a, const LinearSystem& b) { return a += b; });
+      [](System a, const System& b) { return a += b; });
 }
 
-// Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl).
-LinearSystem PlanarSystem(const std::vector<Correspondence>& pairs,
-                          const std::vector<double>& weights, double alpha, double kernel_scale) {
-  return ReduceDeterministic(pairs.size(), [&](std::size_t i, LinearSystem& acc) {
+// Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl). A point fired tau
+// seconds off the registered frame moves by tau * (v + w x (s - centre)) under the in-scan
+// twist, hence its Jacobian tau * [n^T, ((s - centre) x n)^T].
+template <int N>
+NormalEquations<N> PlanarSystem(const std::vector<Correspondence>& pairs,
+                                const std::vector<double>& weights, double alpha,
+                                double kernel_scale, const Eigen::Vector3d& centre) {
+  return ReduceDeterministic<NormalEquations<N>>(pairs.size(), [&](std::size_t i,
+                                                                   NormalEquations<N>& acc) {
     const Correspondence& c = pairs[i];
     const double r = c.normal.dot(c.source - c.target);
-    Vector6d J;
-    J << c.normal, c.source.cross(c.normal);
+    Eigen::Matrix<double, N, 1> J;
+    J.template head<6>() << c.normal, c.source.cross(c.normal);
+    if constexpr (N == 12) {
+      J.template tail<6>() << c.time * c.normal, c.time * (c.source - centre).cross(c.normal);
+    }
     const double w = alpha * weights[i] * RobustWeight(r * r, kernel_scale);
     acc.H.noalias() += w * J * J.transpose();
     acc.b.noalias() += w * r * J;
@@ -69,15 +83,22 @@ LinearSystem PlanarSystem(const std::vector<Correspondence>& pairs,
 
 // Point-to-point: r = s - q, J = [I, -Hat(s)] (paper eq. pt2pt), each residual seen through
 // the 3x3 metric W (identity, or the degeneracy weighting of the planar analysis).
-LinearSystem PointSystem(const std::vector<Correspondence>& pairs, double weight,
-                         const Eigen::Matrix3d& W, double kernel_scale) {
-  return ReduceDeterministic(pairs.size(), [&](std::size_t i, LinearSystem& acc) {
+template <int N>
+NormalEquations<N> PointSystem(const std::vector<Correspondence>& pairs, double weight,
+                               const Eigen::Matrix3d& W, double kernel_scale,
+                               const Eigen::Vector3d& centre) {
+  return ReduceDeterministic<NormalEquations<N>>(pairs.size(), [&](std::size_t i,
+                                                                   NormalEquations<N>& acc) {
     const Correspondence& c = pairs[i];
     const Eigen::Vector3d r = c.source - c.target;
-    Eigen::Matrix<double, 3, 6> J;
-    J << Eigen::Matrix3d::Identity(), -Hat(c.source);
+    Eigen::Matrix<double, 3, N> J;
+    J.template leftCols<6>() << Eigen::Matrix3d::Identity(), -Hat(c.source);
+    if constexpr (N == 12) {
+      J.template rightCols<6>() << c.time * Eigen::Matrix3d::Identity(),
+          -c.time * Hat(c.source - centre);
+    }
     const double w = weight * RobustWeight(r.squaredNorm(), kernel_scale);
-    const Eigen::Matrix<double, 6, 3> JtW = J.transpose() * W;
+    const Eigen::Matrix<double, N, 3> JtW = J.transpose() * W;
     acc.H.noalias() += w * JtW * J;
     acc.b.noalias() += w * JtW * r;
     acc.chi2 += w * r.dot(W * r);
@@ -235,18 +256,25 @@ void AddMotionPrior(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_pred,
 // (Aitken's extrapolation of a geometric series; AA-ICP, Pavlov et al. 2018, accelerates ICP
 // for the same reason). Only steps that repeat the previous direction are stretched, by at
 // most max_factor: a step that overshoots is corrected by the next search.
-Vector6d Extrapolated(const Vector6d& dx, const Vector6d& previous_dx, double max_factor) {
+double StretchFactor(const Vector6d& dx, const Vector6d& previous_dx, double max_factor) {
   constexpr double kSameDirection = 0.9;  // cosine between successive steps
   const double norm = dx.norm();
   const double previous_norm = previous_dx.norm();
-  if (!(max_factor > 1.0) || !(norm > 0.0) || !(previous_norm > norm)) return dx;
-  if (dx.dot(previous_dx) < kSameDirection * norm * previous_norm) return dx;
+  if (!(max_factor > 1.0) || !(norm > 0.0) || !(previous_norm > norm)) return 1.0;
+  if (dx.dot(previous_dx) < kSameDirection * norm * previous_norm) return 1.0;
   // A step much shorter than the last is the pairs settling, not a geometric tail (which at
   // such a ratio is short anyway): stretching it would only add noise.
   constexpr double kMinRatio = 0.3;
   const double rho = norm / previous_norm;
-  if (rho < kMinRatio) return dx;
-  return std::min(max_factor, 1.0 / (1.0 - rho)) * dx;
+  if (rho < kMinRatio) return 1.0;
+  return std::min(max_factor, 1.0 / (1.0 - rho));
+}
+
+// The in-scan twist moves a point fired tau seconds off the registered frame by
+// tau * (v + w x (p - centre)), world frame, centre the sensor position.
+Eigen::Vector3d InScanShift(const Vector6d& twist, const Eigen::Vector3d& centre,
+                            const Eigen::Vector3d& p, double tau) {
+  return tau * (twist.head<3>() + twist.tail<3>().cross(p - centre));
 }
 
 // Returns the largest distance a point moved.
@@ -260,9 +288,103 @@ double Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& point
   return std::sqrt(moved_sq);
 }
 
+// The same with the in-scan twist step applied after the pose step.
+double Transform(const Eigen::Isometry3d& T, const Vector6d& twist, const Eigen::Vector3d& centre,
+                 const std::vector<float>& times, std::vector<Eigen::Vector3d>& points) {
+  double moved_sq = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Eigen::Vector3d& p = points[i];
+    Eigen::Vector3d q = T * p;
+    q += InScanShift(twist, centre, q, times[i]);
+    moved_sq = std::max(moved_sq, (q - p).squaredNorm());
+    p = q;
+  }
+  return std::sqrt(moved_sq);
+}
+
 void MoveSources(const Eigen::Isometry3d& T, CorrespondenceSet& pairs) {
   for (Correspondence& c : pairs.planar) c.source = T * c.source;
   for (Correspondence& c : pairs.point) c.source = T * c.source;
+}
+
+void MoveSources(const Eigen::Isometry3d& T, const Vector6d& twist, const Eigen::Vector3d& centre,
+                 CorrespondenceSet& pairs) {
+  for (std::vector<Correspondence>* set : {&pairs.planar, &pairs.point}) {
+    for (Correspondence& c : *set) {
+      c.source = T * c.source;
+      c.source += InScanShift(twist, centre, c.source, c.time);
+    }
+  }
+}
+
+// The data's normal equations for this iteration's pairs (N = 12: with the in-scan twist).
+template <int N>
+NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyReport& planar_report,
+                              bool weak_aware, bool weighted, double alpha, double kernel_scale,
+                              const RegistrationConfig& config, ShapeCache& shapes_around,
+                              const Eigen::Vector3d& centre) {
+  if (weak_aware) {
+    const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
+    NormalEquations<N> system = PlanarSystem<N>(
+        sorted.planar, std::vector<double>(sorted.planar.size(), 1.0), alpha, kernel_scale, centre);
+    system += PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(), kernel_scale,
+                             centre);
+    return system;
+  }
+  // Weighting trades information for robustness; a well-conditioned scene has nothing to
+  // gain from it, so by default it starts where the analysis finds a degenerate direction.
+  const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
+  const std::vector<double> weights = weigh ? DegeneracyWeights(pairs.planar, planar_report)
+                                            : std::vector<double>(pairs.planar.size(), 1.0);
+  const Eigen::Matrix3d point_metric = weigh && config.weight_point_residuals
+                                           ? PointResidualMetric(planar_report)
+                                           : Eigen::Matrix3d::Identity();
+  NormalEquations<N> system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, centre);
+  system += PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, centre);
+  return system;
+}
+
+// In-scan motion: the scan's own twist departs from the deskew velocity by `twist` so far,
+// with the prior information `twist_information` on that departure. Eliminated from the
+// 12-dimensional system (Schur complement), it leaves the pose's normal equations; the pose
+// step found there gives the twist step back.
+class InScanTwist {
+ public:
+  InScanTwist(const NormalEquations<12>& data, double scale, const Vector6d& twist,
+              const Vector6d& twist_information)
+      : H_pt_(scale * data.H.topRightCorner<6, 6>()) {
+    Matrix6d H_tt = scale * data.H.bottomRightCorner<6, 6>();
+    H_tt.diagonal() += twist_information;
+    b_t_ = scale * data.b.tail<6>() + twist_information.cwiseProduct(twist);
+    H_tt_.compute(H_tt);
+  }
+  // The pose's normal equations with the twist eliminated.
+  void Eliminate(Matrix6d& H, Vector6d& b) const {
+    H -= H_pt_ * H_tt_.solve(H_pt_.transpose());
+    b -= H_pt_ * H_tt_.solve(b_t_);
+  }
+  Vector6d Step(const Vector6d& pose_step) const {
+    return -H_tt_.solve(b_t_ + H_pt_.transpose() * pose_step);
+  }
+
+ private:
+  Matrix6d H_pt_;
+  Vector6d b_t_;
+  Eigen::LDLT<Matrix6d> H_tt_;
+};
+
+Vector6d InScanInformation(const MotionPrior& prior) {
+  const double v = prior.scan_velocity_sigma;
+  const double w = prior.scan_rate_sigma;
+  Vector6d information;
+  information << Eigen::Vector3d::Constant(1.0 / (v * v)), Eigen::Vector3d::Constant(1.0 / (w * w));
+  return information;
+}
+
+bool EstimatesInScanTwist(bool fused, const MotionPrior& prior, const std::vector<float>& times,
+                          std::size_t num_source) {
+  return fused && prior.scan_velocity_sigma > 0.0 && prior.scan_rate_sigma > 0.0 &&
+         times.size() == num_source && num_source > 0;
 }
 
 }  // namespace
@@ -272,7 +394,8 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
                                 const RegistrationConfig& config,
-                                const MotionPrior& prior) {
+                                const MotionPrior& prior,
+                                const std::vector<float>& source_times) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
@@ -284,8 +407,13 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                         (prior.holds || !config.remap_degenerate_directions);
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
+  const bool in_scan = EstimatesInScanTwist(fused, prior, source_times, source.size());
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
   ShapeCache shapes_around(map, config.point_flatness);
+  const Vector6d twist_information = in_scan ? InScanInformation(prior) : Vector6d::Zero();
+  double max_time = 0.0;  // how far a point's time lies from the registered frame's
+  for (float t : source_times) max_time = std::max(max_time, std::abs(double{t}));
+  Vector6d twist = Vector6d::Zero();  // in-scan departure from the deskew velocity, world frame
 
   CorrespondenceSet pairs;
   double moved_since_search = std::numeric_limits<double>::infinity();
@@ -294,7 +422,8 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     const bool reuse_pairs = moved_since_search < config.correspondence_reuse_distance;
     if (!reuse_pairs) {
       pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
-                                  config.mode, config.unknown_defers_to_map);
+                                  config.mode, config.unknown_defers_to_map,
+                                  in_scan ? source_times : std::vector<float>{});
       moved_since_search = 0.0;
       ++result.searches;
     }
@@ -306,25 +435,21 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     const DegeneracyReport planar_report = AnalyseTranslation(
         H_planar, fused ? config.weak_eigenvalue_ratio : config.degenerate_eigenvalue_ratio);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
+    const bool weak_aware = fused && planar_report.AnyDegenerate();
+    const Eigen::Vector3d centre = result.T_world_sensor.translation();
     LinearSystem system;
-    if (fused && planar_report.AnyDegenerate()) {
-      const WeakAwarePairs weak_aware = WeakAware(pairs, planar_report, config, shapes_around);
-      system = PlanarSystem(weak_aware.planar, std::vector<double>(weak_aware.planar.size(), 1.0),
-                            alpha, kernel_scale);
-      system += PointSystem(weak_aware.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
-                            kernel_scale);
+    std::optional<InScanTwist> in_scan_twist;
+    if (in_scan) {
+      const NormalEquations<12> full = DataSystem<12>(pairs, planar_report, weak_aware, weighted,
+                                                      alpha, kernel_scale, config, shapes_around,
+                                                      centre);
+      system.H = full.H.topLeftCorner<6, 6>();
+      system.b = full.b.head<6>();
+      system.chi2 = full.chi2;
+      in_scan_twist.emplace(full, information_scale, twist, twist_information);
     } else {
-      // Weighting trades information for robustness; a well-conditioned scene has nothing to
-      // gain from it, so by default it starts where the analysis finds a degenerate direction.
-      const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
-      const std::vector<double> weights =
-          weigh ? DegeneracyWeights(pairs.planar, planar_report)
-                : std::vector<double>(pairs.planar.size(), 1.0);
-      const Eigen::Matrix3d point_metric =
-          weigh && config.weight_point_residuals ? PointResidualMetric(planar_report)
-                                                    : Eigen::Matrix3d::Identity();
-      system = PlanarSystem(pairs.planar, weights, alpha, kernel_scale);
-      system += PointSystem(pairs.point, 1.0 - alpha, point_metric, kernel_scale);
+      system = DataSystem<6>(pairs, planar_report, weak_aware, weighted, alpha, kernel_scale,
+                             config, shapes_around, centre);
     }
 
     const DegeneracyReport report =
@@ -335,6 +460,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
       // Information in absolute units, so that it weighs against the prior's.
       H *= information_scale;
       b *= information_scale;
+      if (in_scan_twist) in_scan_twist->Eliminate(H, b);
       result.data_information = H;
       AddMotionPrior(result.T_world_sensor, initial_guess, prior, H, b);
     }
@@ -346,14 +472,24 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     if (remap && prior.holds) {
       RemapDegenerateTranslation(planar_report, dx);
     }
-    if (!dx.allFinite()) break;
-    const Vector6d applied =
-        reuse_pairs ? dx : Extrapolated(dx, previous_dx, config.max_step_extrapolation);
+    const Vector6d twist_dx = in_scan_twist ? in_scan_twist->Step(dx) : Vector6d::Zero();
+    if (!dx.allFinite() || !twist_dx.allFinite()) break;
+    const double stretch =
+        reuse_pairs ? 1.0 : StretchFactor(dx, previous_dx, config.max_step_extrapolation);
+    const Vector6d applied = stretch * dx;
     previous_dx = reuse_pairs ? Vector6d::Zero() : dx;
     const Eigen::Isometry3d step = ExpSE3(applied);
-    moved_since_search += Transform(step, source_world);
-    MoveSources(step, pairs);
     result.T_world_sensor = step * result.T_world_sensor;
+    if (in_scan) {
+      const Vector6d twist_step = stretch * twist_dx;
+      const Eigen::Vector3d new_centre = result.T_world_sensor.translation();
+      moved_since_search += Transform(step, twist_step, new_centre, source_times, source_world);
+      MoveSources(step, twist_step, new_centre, pairs);
+      twist += twist_step;
+    } else {
+      moved_since_search += Transform(step, source_world);
+      MoveSources(step, pairs);
+    }
 
     // Published degeneracy is the paper's analysis of the planar H_tt (what the point weights
     // use); without planar pairs, that of the whole problem.
@@ -369,12 +505,16 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                                            3 * pairs.point.size()) - 6.0);
       result.covariance = (system.chi2 / dof) * H.inverse();
     }
-    if (dx.norm() < config.convergence_criterion) {
+    // The twist step counts by how far it moves the scan's first and last points.
+    if (dx.norm() < config.convergence_criterion &&
+        max_time * twist_dx.norm() < config.convergence_criterion) {
       result.converged = true;
       break;
     }
   }
   result.T_world_sensor = Normalized(result.T_world_sensor);
+  const Eigen::Matrix3d Rt = result.T_world_sensor.linear().transpose();
+  result.scan_twist << Rt * twist.head<3>(), Rt * twist.tail<3>();
   return result;
 }
 

@@ -25,6 +25,10 @@ struct RegistrationResult {
   bool enough_correspondences = false;  // false: the pose is the initial guess, untouched
   // Full mode: the scan's own information on the pose (without the prior), absolute units.
   Matrix6d data_information = Matrix6d::Zero();
+  // With in-scan motion (MotionPrior::scan_velocity_sigma): how the scan's own velocity
+  // departs from the one it was deskewed with, sensor frame [v (m/s); w (rad/s)]. A point
+  // fired at time tau (relative to the registered frame) belongs at ExpSE3(tau * scan_twist) p.
+  Vector6d scan_twist = Vector6d::Zero();
 };
 
 // What the motion model predicts for a scan (the initial guess) and how far the carrier can
@@ -37,6 +41,11 @@ struct MotionPrior {
   // 1-sigma departure of the orientation (rad) from the prediction. rotation_sigma 0: none.
   Eigen::Matrix3d translation_information = Eigen::Matrix3d::Zero();
   double rotation_sigma = 0.0;
+  // Full mode's in-scan motion: 1-sigma departure of the scan's own linear (m/s) and angular
+  // (rad/s) velocity from the velocity it was deskewed with. Both > 0 (and source times
+  // given): that departure is estimated with the pose. 0: the deskew is taken as exact.
+  double scan_velocity_sigma = 0.0;
+  double scan_rate_sigma = 0.0;
 };
 
 // Robust Gauss-Newton on SE(3) of sensor-frame `source` points against the map, starting at
@@ -48,11 +57,15 @@ struct MotionPrior {
 // really face it count, and the prior fills what they leave unobserved. full_remap is the
 // paper's weighting plus solution remapping: it keeps the prediction along degenerate
 // directions once prior.holds, and leaves every direction to the data otherwise.
+// `source_times` (optional, one per source point): firing times relative to the frame the
+// source is expressed in, seconds; with them and the prior's in-scan sigmas, full mode also
+// estimates RegistrationResult::scan_twist.
 RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,
                                 double max_correspondence_distance, double kernel_scale,
                                 const RegistrationConfig& config,
-                                const MotionPrior& prior = {});
+                                const MotionPrior& prior = {},
+                                const std::vector<float>& source_times = {});
 
 }  // namespace dammloam

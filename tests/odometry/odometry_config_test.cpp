@@ -39,19 +39,24 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
             defaults.preprocess.range_image.max_auto_cols);
   EXPECT_DOUBLE_EQ(loaded.registration.max_step_extrapolation,
                    defaults.registration.max_step_extrapolation);
+  EXPECT_DOUBLE_EQ(loaded.in_scan_velocity_sigma, defaults.in_scan_velocity_sigma);
+  EXPECT_DOUBLE_EQ(loaded.in_scan_rate_sigma, defaults.in_scan_rate_sigma);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
   const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
       "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0}\n"
       "map: {voxel_size: 0.4}\n"
-      "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"));
+      "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
+      "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0}\n"));
   EXPECT_EQ(c.registration.mode, RegistrationMode::kPlaneOnly);
   EXPECT_EQ(c.registration.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
   EXPECT_DOUBLE_EQ(c.preprocess.classifier.edge_angle_deg, 20.0);
   EXPECT_FALSE(c.deskew);
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
+  EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
+  EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
   EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
 }
 
@@ -67,6 +72,12 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
                 .find("registration.max_step_extrapolation"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_rate_sigma: 0}")
+                .find("motion_prior.in_scan_velocity_sigma: and in_scan_rate_sigma must both"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_velocity_sigma: -1}")
+                .find("motion_prior.in_scan_velocity_sigma: must be >= 0"),
             std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
