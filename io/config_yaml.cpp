@@ -99,6 +99,7 @@ void ReadMotionPrior(Section s, OdometryConfig& c) {
   s.Get("angular_acceleration", c.max_angular_acceleration);
   s.Get("in_scan_velocity_sigma", c.in_scan_velocity_sigma);
   s.Get("in_scan_rate_sigma", c.in_scan_rate_sigma);
+  s.Get("in_scan_angular_acceleration_sigma", c.in_scan_angular_acceleration_sigma);
   s.RejectUnknownKeys();
 }
 
@@ -215,9 +216,14 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(c.max_angular_acceleration > 0.0, "motion_prior.angular_acceleration", "must be > 0");
   Require(c.in_scan_velocity_sigma >= 0.0, "motion_prior.in_scan_velocity_sigma", "must be >= 0");
   Require(c.in_scan_rate_sigma >= 0.0, "motion_prior.in_scan_rate_sigma", "must be >= 0");
+  Require(c.in_scan_angular_acceleration_sigma >= 0.0,
+          "motion_prior.in_scan_angular_acceleration_sigma", "must be >= 0");
   Require((c.in_scan_velocity_sigma > 0.0) == (c.in_scan_rate_sigma > 0.0),
           "motion_prior.in_scan_velocity_sigma",
           "and in_scan_rate_sigma must both be > 0 (in-scan motion on) or both 0 (off)");
+  Require(c.in_scan_angular_acceleration_sigma == 0.0 || c.in_scan_rate_sigma > 0.0,
+          "motion_prior.in_scan_angular_acceleration_sigma",
+          "needs the in-scan motion on (in_scan_velocity_sigma and in_scan_rate_sigma > 0)");
   Require(c.map_frame_voxel_factor > 0.0, "map_frame_voxel_factor", "must be > 0");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");

@@ -144,7 +144,7 @@ MotionPrior Odometry::Prior(double dt, bool holds) {
   const Eigen::Matrix3d covariance = translation_filter_.Predict(dt);
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
           config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
-          config_.in_scan_rate_sigma};
+          config_.in_scan_rate_sigma, config_.in_scan_angular_acceleration_sigma};
 }
 
 Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
@@ -213,7 +213,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   } else {
     const RegistrationResult reg = RegisterFrame(frame, dt);
     result.timings.registration_ms = watch.LapMs();
-    if (reg.enough_correspondences) CorrectInScanMotion(frame, reg.scan_twist);
+    if (reg.enough_correspondences) CorrectInScanMotion(frame, reg);
     result.timings.deskew_ms += watch.LapMs();
     Describe(reg, result);
     if (!reg.enough_correspondences) return Unregistered(std::move(result), frame);
@@ -299,12 +299,17 @@ RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrio
 // Registration measured how the scan's own motion departs from the velocity it was deskewed
 // with: the scan is deskewed again by that departure, so that the map and the published cloud
 // get the points where the registration put them.
-void Odometry::CorrectInScanMotion(Frame& frame, const Vector6d& scan_twist) const {
-  if (scan_twist.isZero(0.0)) return;
+void Odometry::CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const {
   const double period = sensor_.scan_period;
-  const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * period * scan_twist);
-  DeskewScan(frame.scan, ExpSE3(period * scan_twist), period, T_mid_start);
-  frame.T_mid_start = T_mid_start * frame.T_mid_start;
+  if (!reg.scan_twist.isZero(0.0)) {
+    const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * period * reg.scan_twist);
+    DeskewScan(frame.scan, ExpSE3(period * reg.scan_twist), period, T_mid_start);
+    frame.T_mid_start = T_mid_start * frame.T_mid_start;
+  }
+  if (!reg.scan_angular_acceleration.isZero(0.0)) {
+    TurnByAngularAcceleration(frame.scan, reg.scan_angular_acceleration, period,
+                              reg.scan_mean_time_sq);
+  }
 }
 
 // Deskew again with the motion just measured and refine from there: a sensor that starts

@@ -65,7 +65,7 @@ class Odometry {
   SourcePoints SelectSource(const ClassifiedScan& scan);
   // The constant-velocity prediction's prior over a scan interval dt.
   MotionPrior Prior(double dt, bool holds);
-  void CorrectInScanMotion(Frame& frame, const Vector6d& scan_twist) const;
+  void CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const;
   // Full mode: the velocity after a registration, from the translation filter.
   Vector6d FilteredVelocity(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T_new,
                             const RegistrationResult& reg, double dt);

@@ -15,4 +15,11 @@ namespace dammloam {
 void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period,
                 const Eigen::Isometry3d& T_out_start = Eigen::Isometry3d::Identity());
 
+// The second-order part of in-scan motion that a constant velocity leaves out: a point fired
+// tau = t - scan_period / 2 seconds off mid-scan is turned about the sensor origin by
+// ExpSO3(0.5 (tau^2 - mean_time_sq) angular_acceleration) (sensor frame, rad/s^2), its normal
+// with it. Scans without per-point times are left unchanged.
+void TurnByAngularAcceleration(ClassifiedScan& scan, const Eigen::Vector3d& angular_acceleration,
+                               double scan_period, double mean_time_sq);
+
 }  // namespace dammloam

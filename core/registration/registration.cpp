@@ -21,8 +21,8 @@ namespace dammloam {
 namespace {
 
 // Normal equations of the weighted objective; tangent order [t; r] (see degeneracy_weights.hpp)
-// and, with in-scan motion (N = 12), then [v; w] of the scan's own twist (world frame, about
-// the sensor position).
+// and, with in-scan motion, then [v; w] of the scan's own twist (N = 12; world frame, about the
+// sensor position) and its angular acceleration a (N = 15).
 template <int N>
 struct NormalEquations {
   Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
@@ -36,8 +36,36 @@ struct NormalEquations {
   }
 };
 using LinearSystem = NormalEquations<6>;
-using Matrix12d = Eigen::Matrix<double, 12, 12>;
-using Vector12d = Eigen::Matrix<double, 12, 1>;
+
+// In-scan motion: a point fired tau seconds off the registered frame moves by
+// tau (v + w x d) + Curve(tau) (a x d), d = p - centre (world frame, centre the sensor). The
+// curve is the rotation a constant angular acceleration adds, less its mean over the scan's
+// points: its constant part is the pose's rotation, not the scan's.
+struct InScanBasis {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double mean_time_sq = 0.0;
+  // The part of a point pair's residual that informs the angular acceleration (see
+  // InScanBasisFor).
+  Eigen::Matrix3d point_metric = Eigen::Matrix3d::Identity();
+  double Curve(double tau) const { return 0.5 * (tau * tau - mean_time_sq); }
+};
+
+// Along a direction the planes leave weak, a point pair's residual there is what carries the
+// pose (see WeakAware), ring-pattern bias included, and it must not bend the scan as well:
+// tilting the scan's ends moves the floor and the ceiling along a corridor in opposite senses.
+// Counted there, the acceleration and the height crawled together for the whole iteration
+// budget on most scans of the endless corridor (median 41 iterations, 7 without it).
+InScanBasis InScanBasisFor(const Eigen::Vector3d& centre, double mean_time_sq,
+                           const DegeneracyReport* weak) {
+  InScanBasis basis{centre, mean_time_sq};
+  if (weak == nullptr) return basis;
+  for (int i = 0; i < 3; ++i) {
+    if (!weak->degenerate[i]) continue;
+    const Eigen::Vector3d v = weak->eigenvectors.col(i);
+    basis.point_metric -= v * v.transpose();
+  }
+  return basis;
+}
 
 // Geman-McClure IRLS weight, KISS-ICP's form.
 double RobustWeight(double residual_sq, double kernel_scale) {
@@ -58,21 +86,23 @@ System ReduceDeterministic(std::size_t n, Fn add_term) {
       [](System a, const System& b) { return a += b; });
 }
 
-// Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl). A point fired tau
-// seconds off the registered frame moves by tau * (v + w x (s - centre)) under the in-scan
-// twist, hence its Jacobian tau * [n^T, ((s - centre) x n)^T].
+// Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl). Under the in-scan
+// motion (InScanBasis) the twist's Jacobian is tau [n^T, (d x n)^T] and the angular
+// acceleration's Curve(tau) (d x n)^T.
 template <int N>
 NormalEquations<N> PlanarSystem(const std::vector<Correspondence>& pairs,
                                 const std::vector<double>& weights, double alpha,
-                                double kernel_scale, const Eigen::Vector3d& centre) {
+                                double kernel_scale, const InScanBasis& basis) {
   return ReduceDeterministic<NormalEquations<N>>(pairs.size(), [&](std::size_t i,
                                                                    NormalEquations<N>& acc) {
     const Correspondence& c = pairs[i];
     const double r = c.normal.dot(c.source - c.target);
     Eigen::Matrix<double, N, 1> J;
     J.template head<6>() << c.normal, c.source.cross(c.normal);
-    if constexpr (N == 12) {
-      J.template tail<6>() << c.time * c.normal, c.time * (c.source - centre).cross(c.normal);
+    if constexpr (N >= 12) {
+      const Eigen::Vector3d d_x_n = (c.source - basis.centre).cross(c.normal);
+      J.template segment<6>(6) << c.time * c.normal, c.time * d_x_n;
+      if constexpr (N == 15) J.template tail<3>() = basis.Curve(c.time) * d_x_n;
     }
     const double w = alpha * weights[i] * RobustWeight(r * r, kernel_scale);
     acc.H.noalias() += w * J * J.transpose();
@@ -86,16 +116,19 @@ NormalEquations<N> PlanarSystem(const std::vector<Correspondence>& pairs,
 template <int N>
 NormalEquations<N> PointSystem(const std::vector<Correspondence>& pairs, double weight,
                                const Eigen::Matrix3d& W, double kernel_scale,
-                               const Eigen::Vector3d& centre) {
+                               const InScanBasis& basis) {
   return ReduceDeterministic<NormalEquations<N>>(pairs.size(), [&](std::size_t i,
                                                                    NormalEquations<N>& acc) {
     const Correspondence& c = pairs[i];
     const Eigen::Vector3d r = c.source - c.target;
     Eigen::Matrix<double, 3, N> J;
     J.template leftCols<6>() << Eigen::Matrix3d::Identity(), -Hat(c.source);
-    if constexpr (N == 12) {
-      J.template rightCols<6>() << c.time * Eigen::Matrix3d::Identity(),
-          -c.time * Hat(c.source - centre);
+    if constexpr (N >= 12) {
+      const Eigen::Matrix3d d_hat = Hat(c.source - basis.centre);
+      J.template middleCols<6>(6) << c.time * Eigen::Matrix3d::Identity(), -c.time * d_hat;
+      if constexpr (N == 15) {
+        J.template rightCols<3>() = -basis.Curve(c.time) * basis.point_metric * d_hat;
+      }
     }
     const double w = weight * RobustWeight(r.squaredNorm(), kernel_scale);
     const Eigen::Matrix<double, N, 3> JtW = J.transpose() * W;
@@ -270,65 +303,61 @@ double StretchFactor(const Vector6d& dx, const Vector6d& previous_dx, double max
   return std::min(max_factor, 1.0 / (1.0 - rho));
 }
 
-// The in-scan twist moves a point fired tau seconds off the registered frame by
-// tau * (v + w x (p - centre)), world frame, centre the sensor position.
-Eigen::Vector3d InScanShift(const Vector6d& twist, const Eigen::Vector3d& centre,
+// The in-scan unknowns: none (K = 0), the twist [v; w] (K = 6), and its angular acceleration
+// a (K = 9), as departures from the deskew velocity.
+template <int K>
+using InScanVector = Eigen::Matrix<double, K, 1>;
+
+// How far the in-scan motion m moves a point p fired tau seconds off the registered frame.
+template <int K>
+Eigen::Vector3d InScanShift(const InScanVector<K>& m, const InScanBasis& basis,
                             const Eigen::Vector3d& p, double tau) {
-  return tau * (twist.head<3>() + twist.tail<3>().cross(p - centre));
+  const Eigen::Vector3d d = p - basis.centre;
+  Eigen::Vector3d shift = tau * (m.template head<3>() + m.template segment<3>(3).cross(d));
+  if constexpr (K == 9) shift += basis.Curve(tau) * m.template tail<3>().cross(d);
+  return shift;
 }
 
-// Returns the largest distance a point moved.
-double Transform(const Eigen::Isometry3d& T, std::vector<Eigen::Vector3d>& points) {
-  double moved_sq = 0.0;
-  for (Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d q = T * p;
-    moved_sq = std::max(moved_sq, (q - p).squaredNorm());
-    p = q;
-  }
-  return std::sqrt(moved_sq);
-}
-
-// The same with the in-scan twist step applied after the pose step.
-double Transform(const Eigen::Isometry3d& T, const Vector6d& twist, const Eigen::Vector3d& centre,
-                 const std::vector<float>& times, std::vector<Eigen::Vector3d>& points) {
+// The pose step, then (K > 0) the in-scan step about the new centre. Returns the largest
+// distance a point moved.
+template <int K>
+double Transform(const Eigen::Isometry3d& T, const InScanVector<K>& in_scan_step,
+                 const InScanBasis& basis, const std::vector<float>& times,
+                 std::vector<Eigen::Vector3d>& points) {
   double moved_sq = 0.0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d& p = points[i];
     Eigen::Vector3d q = T * p;
-    q += InScanShift(twist, centre, q, times[i]);
+    if constexpr (K > 0) q += InScanShift<K>(in_scan_step, basis, q, times[i]);
     moved_sq = std::max(moved_sq, (q - p).squaredNorm());
     p = q;
   }
   return std::sqrt(moved_sq);
 }
 
-void MoveSources(const Eigen::Isometry3d& T, CorrespondenceSet& pairs) {
-  for (Correspondence& c : pairs.planar) c.source = T * c.source;
-  for (Correspondence& c : pairs.point) c.source = T * c.source;
-}
-
-void MoveSources(const Eigen::Isometry3d& T, const Vector6d& twist, const Eigen::Vector3d& centre,
-                 CorrespondenceSet& pairs) {
+template <int K>
+void MoveSources(const Eigen::Isometry3d& T, const InScanVector<K>& in_scan_step,
+                 const InScanBasis& basis, CorrespondenceSet& pairs) {
   for (std::vector<Correspondence>* set : {&pairs.planar, &pairs.point}) {
     for (Correspondence& c : *set) {
       c.source = T * c.source;
-      c.source += InScanShift(twist, centre, c.source, c.time);
+      if constexpr (K > 0) c.source += InScanShift<K>(in_scan_step, basis, c.source, c.time);
     }
   }
 }
 
-// The data's normal equations for this iteration's pairs (N = 12: with the in-scan twist).
+// The data's normal equations for this iteration's pairs (N > 6: with the in-scan motion).
 template <int N>
 NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyReport& planar_report,
                               bool weak_aware, bool weighted, double alpha, double kernel_scale,
                               const RegistrationConfig& config, ShapeCache& shapes_around,
-                              const Eigen::Vector3d& centre) {
+                              const InScanBasis& basis) {
   if (weak_aware) {
     const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
     NormalEquations<N> system = PlanarSystem<N>(
-        sorted.planar, std::vector<double>(sorted.planar.size(), 1.0), alpha, kernel_scale, centre);
+        sorted.planar, std::vector<double>(sorted.planar.size(), 1.0), alpha, kernel_scale, basis);
     system += PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(), kernel_scale,
-                             centre);
+                             basis);
     return system;
   }
   // Weighting trades information for robustness; a well-conditioned scene has nothing to
@@ -339,78 +368,112 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
   const Eigen::Matrix3d point_metric = weigh && config.weight_point_residuals
                                            ? PointResidualMetric(planar_report)
                                            : Eigen::Matrix3d::Identity();
-  NormalEquations<N> system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, centre);
-  system += PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, centre);
+  NormalEquations<N> system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, basis);
+  system += PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
   return system;
 }
 
-// In-scan motion: the scan's own twist departs from the deskew velocity by `twist` so far,
-// with the prior information `twist_information` on that departure. Eliminated from the
-// 12-dimensional system (Schur complement), it leaves the pose's normal equations; the pose
-// step found there gives the twist step back.
-class InScanTwist {
+// In-scan motion: the scan's own motion departs from the deskew velocity by `motion` so far,
+// with the prior information `information` on that departure. Eliminated from the (6 + K)-
+// dimensional system (Schur complement), it leaves the pose's normal equations; the pose step
+// found there gives the in-scan step back.
+template <int K>
+class InScanElimination {
  public:
-  InScanTwist(const NormalEquations<12>& data, double scale, const Vector6d& twist,
-              const Matrix6d& twist_information)
-      : H_pt_(scale * data.H.topRightCorner<6, 6>()) {
-    const Matrix6d H_tt = scale * data.H.bottomRightCorner<6, 6>() + twist_information;
-    b_t_ = scale * data.b.tail<6>() + twist_information * twist;
-    H_tt_.compute(H_tt);
+  using MatrixK = Eigen::Matrix<double, K, K>;
+  InScanElimination(const NormalEquations<6 + K>& data, double scale,
+                    const InScanVector<K>& motion, const MatrixK& information)
+      : H_pm_(scale * data.H.template topRightCorner<6, K>()) {
+    const MatrixK H_mm = scale * data.H.template bottomRightCorner<K, K>() + information;
+    b_m_ = scale * data.b.template tail<K>() + information * motion;
+    H_mm_.compute(H_mm);
   }
-  // The pose's normal equations with the twist eliminated.
+  // The pose's normal equations with the in-scan motion eliminated.
   void Eliminate(Matrix6d& H, Vector6d& b) const {
-    H -= H_pt_ * H_tt_.solve(H_pt_.transpose());
-    b -= H_pt_ * H_tt_.solve(b_t_);
+    H -= H_pm_ * H_mm_.solve(H_pm_.transpose());
+    b -= H_pm_ * H_mm_.solve(b_m_);
   }
-  Vector6d Step(const Vector6d& pose_step) const {
-    return -H_tt_.solve(b_t_ + H_pt_.transpose() * pose_step);
+  InScanVector<K> Step(const Vector6d& pose_step) const {
+    return -H_mm_.solve(b_m_ + H_pm_.transpose() * pose_step);
   }
 
  private:
-  Matrix6d H_pt_;
-  Vector6d b_t_;
-  Eigen::LDLT<Matrix6d> H_tt_;
+  Eigen::Matrix<double, 6, K> H_pm_;
+  InScanVector<K> b_m_;
+  Eigen::LDLT<MatrixK> H_mm_;
 };
 
-// The prior's information on the in-scan twist. Along a direction the planes leave weak the
+// The prior's information on the in-scan motion. Along a direction the planes leave weak the
 // scan cannot see its own velocity either (its pairs there are what WeakAware distrusts, and
 // the in-scan term is that signal times +-half a scan): the velocity is held there. Estimated
 // along the axis of the 460 m endless corridor, the pairs' ring pattern moved it scan by scan
 // (APE 59.9 -> 67.5 m, RPE 0.26 -> 0.45 m).
-Matrix6d InScanInformation(const MotionPrior& prior, const DegeneracyReport& planar_report) {
+template <int K>
+Eigen::Matrix<double, K, K> InScanInformation(const MotionPrior& prior,
+                                              const DegeneracyReport& planar_report,
+                                              const Eigen::Vector3d& spin_axis) {
   const double v = prior.scan_velocity_sigma;
   const double w = prior.scan_rate_sigma;
-  Matrix6d information = Matrix6d::Zero();
-  information.diagonal() << Eigen::Vector3d::Constant(1.0 / (v * v)),
+  Eigen::Matrix<double, K, K> information = Eigen::Matrix<double, K, K>::Zero();
+  information.diagonal().template head<6>() << Eigen::Vector3d::Constant(1.0 / (v * v)),
       Eigen::Vector3d::Constant(1.0 / (w * w));
+  if constexpr (K == 9) {
+    const double a = prior.scan_angular_acceleration_sigma;
+    information.diagonal().template tail<3>().setConstant(1.0 / (a * a));
+  }
   constexpr double kHeld = 1e4;  // times the prior's information: effectively fixed
+  if constexpr (K == 9) {
+    // About the spin axis an acceleration only warps the azimuths, which the scene's lateral
+    // position and the ring pattern also move: estimated there, it drifted the wheeled VLP-16
+    // corridor sideways (lateral APE 4 -> 15 mm). The shake's harm is the tilt of the scan's
+    // ends, about the other two axes.
+    const double a = prior.scan_angular_acceleration_sigma;
+    information.template bottomRightCorner<3, 3>() += kHeld / (a * a) * spin_axis *
+                                                      spin_axis.transpose();
+  }
   for (int i = 0; i < 3; ++i) {
     if (!planar_report.degenerate[i]) continue;
     const Eigen::Vector3d axis = planar_report.eigenvectors.col(i);
-    information.topLeftCorner<3, 3>() += kHeld / (v * v) * axis * axis.transpose();
+    information.template topLeftCorner<3, 3>() += kHeld / (v * v) * axis * axis.transpose();
   }
   return information;
 }
 
-bool EstimatesInScanTwist(bool fused, const MotionPrior& prior, const std::vector<float>& times,
-                          std::size_t num_source) {
-  return fused && prior.scan_velocity_sigma > 0.0 && prior.scan_rate_sigma > 0.0 &&
-         times.size() == num_source && num_source > 0;
+// How far an in-scan step moves the scan's first and last points, at most.
+template <int K>
+double InScanStepLength(const InScanVector<K>& step, double max_time) {
+  if constexpr (K == 0) {
+    return 0.0;
+  } else if constexpr (K == 6) {
+    return max_time * step.norm();
+  } else {
+    return std::max(max_time * step.template head<6>().norm(),
+                    0.5 * max_time * max_time * step.template tail<3>().norm());
+  }
 }
 
-}  // namespace
+// 0: rigid scan; 6: the scan's twist; 9: its twist and angular acceleration.
+int InScanUnknowns(const RegistrationConfig& config, const MotionPrior& prior,
+                   const std::vector<float>& times, std::size_t num_source) {
+  const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
+  if (!fused || !(prior.scan_velocity_sigma > 0.0) || !(prior.scan_rate_sigma > 0.0) ||
+      times.size() != num_source || num_source == 0) {
+    return 0;
+  }
+  return prior.scan_angular_acceleration_sigma > 0.0 ? 9 : 6;
+}
 
-RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
-                                const std::vector<PointClass>& labels, const VoxelHashMap& map,
-                                const Eigen::Isometry3d& initial_guess,
-                                double max_correspondence_distance, double kernel_scale,
-                                const RegistrationConfig& config,
-                                const MotionPrior& prior,
-                                const std::vector<float>& source_times) {
+template <int K>
+RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
+                            const std::vector<PointClass>& labels, const VoxelHashMap& map,
+                            const Eigen::Isometry3d& initial_guess,
+                            double max_correspondence_distance, double kernel_scale,
+                            const RegistrationConfig& config, const MotionPrior& prior,
+                            const std::vector<float>& source_times) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
-  Transform(initial_guess, source_world);
+  Transform<0>(initial_guess, {}, {}, {}, source_world);
   // full_remap: the weights go with the remapping: they take the weak directions away from the
   // data, which only the held prediction can then fill. Without a trusted prediction (a start,
   // a reset, a turn the model missed) the data keeps them, unweighted.
@@ -418,12 +481,18 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                         (prior.holds || !config.remap_degenerate_directions);
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
-  const bool in_scan = EstimatesInScanTwist(fused, prior, source_times, source.size());
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
   ShapeCache shapes_around(map, config.point_flatness);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
-  for (float t : source_times) max_time = std::max(max_time, std::abs(double{t}));
-  Vector6d twist = Vector6d::Zero();  // in-scan departure from the deskew velocity, world frame
+  double mean_time_sq = 0.0;
+  if constexpr (K > 0) {
+    for (float t : source_times) max_time = std::max(max_time, std::abs(double{t}));
+  }
+  if constexpr (K == 9) {
+    for (float t : source_times) mean_time_sq += double{t} * t;
+    mean_time_sq /= static_cast<double>(source_times.size());
+  }
+  InScanVector<K> motion = InScanVector<K>::Zero();  // departure from the deskew velocity
 
   CorrespondenceSet pairs;
   double moved_since_search = std::numeric_limits<double>::infinity();
@@ -433,7 +502,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     if (!reuse_pairs) {
       pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
                                   config.mode, config.unknown_defers_to_map,
-                                  in_scan ? source_times : std::vector<float>{});
+                                  K > 0 ? source_times : std::vector<float>{});
       moved_since_search = 0.0;
       ++result.searches;
     }
@@ -446,21 +515,23 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
         H_planar, fused ? config.weak_eigenvalue_ratio : config.degenerate_eigenvalue_ratio);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
     const bool weak_aware = fused && planar_report.AnyDegenerate();
-    const Eigen::Vector3d centre = result.T_world_sensor.translation();
+    const InScanBasis basis = InScanBasisFor(result.T_world_sensor.translation(), mean_time_sq,
+                                             weak_aware ? &planar_report : nullptr);
     LinearSystem system;
-    std::optional<InScanTwist> in_scan_twist;
-    if (in_scan) {
-      const NormalEquations<12> full = DataSystem<12>(pairs, planar_report, weak_aware, weighted,
-                                                      alpha, kernel_scale, config, shapes_around,
-                                                      centre);
-      system.H = full.H.topLeftCorner<6, 6>();
-      system.b = full.b.head<6>();
+    std::optional<InScanElimination<K>> in_scan;
+    if constexpr (K > 0) {
+      const NormalEquations<6 + K> full = DataSystem<6 + K>(
+          pairs, planar_report, weak_aware, weighted, alpha, kernel_scale, config, shapes_around,
+          basis);
+      system.H = full.H.template topLeftCorner<6, 6>();
+      system.b = full.b.template head<6>();
       system.chi2 = full.chi2;
-      in_scan_twist.emplace(full, information_scale, twist,
-                            InScanInformation(prior, planar_report));
+      in_scan.emplace(full, information_scale, motion,
+                      InScanInformation<K>(prior, planar_report,
+                                           result.T_world_sensor.linear().col(2)));
     } else {
       system = DataSystem<6>(pairs, planar_report, weak_aware, weighted, alpha, kernel_scale,
-                             config, shapes_around, centre);
+                             config, shapes_around, basis);
     }
 
     const DegeneracyReport report =
@@ -471,7 +542,7 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
       // Information in absolute units, so that it weighs against the prior's.
       H *= information_scale;
       b *= information_scale;
-      if (in_scan_twist) in_scan_twist->Eliminate(H, b);
+      if (in_scan) in_scan->Eliminate(H, b);
       result.data_information = H;
       AddMotionPrior(result.T_world_sensor, initial_guess, prior, H, b);
     }
@@ -483,24 +554,19 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
     if (remap && prior.holds) {
       RemapDegenerateTranslation(planar_report, dx);
     }
-    const Vector6d twist_dx = in_scan_twist ? in_scan_twist->Step(dx) : Vector6d::Zero();
-    if (!dx.allFinite() || !twist_dx.allFinite()) break;
+    const InScanVector<K> motion_dx = in_scan ? in_scan->Step(dx) : InScanVector<K>::Zero();
+    if (!dx.allFinite() || !motion_dx.allFinite()) break;
     const double stretch =
         reuse_pairs ? 1.0 : StretchFactor(dx, previous_dx, config.max_step_extrapolation);
     const Vector6d applied = stretch * dx;
     previous_dx = reuse_pairs ? Vector6d::Zero() : dx;
     const Eigen::Isometry3d step = ExpSE3(applied);
     result.T_world_sensor = step * result.T_world_sensor;
-    if (in_scan) {
-      const Vector6d twist_step = stretch * twist_dx;
-      const Eigen::Vector3d new_centre = result.T_world_sensor.translation();
-      moved_since_search += Transform(step, twist_step, new_centre, source_times, source_world);
-      MoveSources(step, twist_step, new_centre, pairs);
-      twist += twist_step;
-    } else {
-      moved_since_search += Transform(step, source_world);
-      MoveSources(step, pairs);
-    }
+    const InScanVector<K> motion_step = stretch * motion_dx;
+    const InScanBasis moved_basis{result.T_world_sensor.translation(), mean_time_sq};
+    moved_since_search += Transform<K>(step, motion_step, moved_basis, source_times, source_world);
+    MoveSources<K>(step, motion_step, moved_basis, pairs);
+    motion += motion_step;
 
     // Published degeneracy is the paper's analysis of the planar H_tt (what the point weights
     // use); without planar pairs, that of the whole problem.
@@ -516,17 +582,44 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                                            3 * pairs.point.size()) - 6.0);
       result.covariance = (system.chi2 / dof) * H.inverse();
     }
-    // The twist step counts by how far it moves the scan's first and last points.
     if (dx.norm() < config.convergence_criterion &&
-        max_time * twist_dx.norm() < config.convergence_criterion) {
+        InScanStepLength<K>(motion_dx, max_time) < config.convergence_criterion) {
       result.converged = true;
       break;
     }
   }
   result.T_world_sensor = Normalized(result.T_world_sensor);
   const Eigen::Matrix3d Rt = result.T_world_sensor.linear().transpose();
-  result.scan_twist << Rt * twist.head<3>(), Rt * twist.tail<3>();
+  if constexpr (K > 0) {
+    result.scan_twist << Rt * motion.template head<3>(), Rt * motion.template segment<3>(3);
+  }
+  if constexpr (K == 9) {
+    result.scan_angular_acceleration = Rt * motion.template tail<3>();
+    result.scan_mean_time_sq = mean_time_sq;
+  }
   return result;
+}
+
+}  // namespace
+
+RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
+                                const std::vector<PointClass>& labels, const VoxelHashMap& map,
+                                const Eigen::Isometry3d& initial_guess,
+                                double max_correspondence_distance, double kernel_scale,
+                                const RegistrationConfig& config,
+                                const MotionPrior& prior,
+                                const std::vector<float>& source_times) {
+  switch (InScanUnknowns(config, prior, source_times, source.size())) {
+    case 9:
+      return Register<9>(source, labels, map, initial_guess, max_correspondence_distance,
+                         kernel_scale, config, prior, source_times);
+    case 6:
+      return Register<6>(source, labels, map, initial_guess, max_correspondence_distance,
+                         kernel_scale, config, prior, source_times);
+    default:
+      return Register<0>(source, labels, map, initial_guess, max_correspondence_distance,
+                         kernel_scale, config, prior, source_times);
+  }
 }
 
 }  // namespace dammloam

@@ -29,6 +29,12 @@ struct RegistrationResult {
   // departs from the one it was deskewed with, sensor frame [v (m/s); w (rad/s)]. A point
   // fired at time tau (relative to the registered frame) belongs at ExpSE3(tau * scan_twist) p.
   Vector6d scan_twist = Vector6d::Zero();
+  // With MotionPrior::scan_angular_acceleration_sigma as well: the scan's angular acceleration
+  // (sensor frame, rad/s^2). The point fired at tau is then also turned about the sensor by
+  // ExpSO3(0.5 (tau^2 - scan_mean_time_sq) scan_angular_acceleration); the mean of tau^2 over
+  // the source points is taken off because a constant turn is the pose's.
+  Eigen::Vector3d scan_angular_acceleration = Eigen::Vector3d::Zero();
+  double scan_mean_time_sq = 0.0;  // s^2
 };
 
 // What the motion model predicts for a scan (the initial guess) and how far the carrier can
@@ -46,6 +52,9 @@ struct MotionPrior {
   // given): that departure is estimated with the pose. 0: the deskew is taken as exact.
   double scan_velocity_sigma = 0.0;
   double scan_rate_sigma = 0.0;
+  // With both above: 1-sigma angular acceleration (rad/s^2) within one scan, estimated too. A
+  // hand's 4-9 Hz shake reverses its turn within a scan, which a constant rate cannot follow.
+  double scan_angular_acceleration_sigma = 0.0;
 };
 
 // Robust Gauss-Newton on SE(3) of sensor-frame `source` points against the map, starting at

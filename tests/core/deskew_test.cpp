@@ -104,5 +104,40 @@ TEST(Deskew, NonPositivePeriodIsIgnored) {
   EXPECT_EQ(moving.scan.scan.points, before);
 }
 
+// A floor 1.4 m below the sensor scanned while a hand's shake turned the sensor with a constant
+// angular acceleration (a scan's ends tilted against its middle): the far floor is off by
+// centimetres. Turning each point back by its firing time's share must lay it flat again.
+TEST(Deskew, AngularAccelerationTurnsTheBentFloorFlat) {
+  const Eigen::Vector3d acceleration(3.0, -5.0, 1.0);  // rad/s^2, sensor frame
+  ClassifiedScan scan;
+  std::vector<double> taus;
+  for (int i = 0; i < 3600; ++i) {
+    const float t = static_cast<float>(i / 4) / 900.0f * static_cast<float>(kPeriod);
+    const double azimuth = 2.0 * M_PI * t / kPeriod - M_PI;
+    const double range = 2.0 + 0.005 * i;  // up to 20 m away
+    scan.scan.points.emplace_back(range * std::cos(azimuth), range * std::sin(azimuth), -1.4);
+    scan.scan.times.push_back(t);
+    scan.normals.emplace_back(0.0f, 0.0f, 1.0f);
+    taus.push_back(double{t} - 0.5 * kPeriod);
+  }
+  scan.labels.assign(scan.scan.points.size(), PointClass::Ground);
+  double mean_tau_sq = 0.0;
+  for (double tau : taus) mean_tau_sq += tau * tau / static_cast<double>(taus.size());
+  double worst_bend = 0.0;
+  for (std::size_t i = 0; i < taus.size(); ++i) {  // measured through the turned sensor
+    const double curve = 0.5 * (taus[i] * taus[i] - mean_tau_sq);
+    const Eigen::Matrix3d R = ExpSO3(curve * acceleration);
+    scan.scan.points[i] = R.transpose() * scan.scan.points[i];
+    scan.normals[i] = (R.transpose() * scan.normals[i].cast<double>()).cast<float>();
+    worst_bend = std::max(worst_bend, std::abs(scan.scan.points[i].z() + 1.4));
+  }
+  EXPECT_GT(worst_bend, 0.02);
+  TurnByAngularAcceleration(scan, acceleration, kPeriod, mean_tau_sq);
+  for (std::size_t i = 0; i < taus.size(); ++i) {
+    ASSERT_NEAR(scan.scan.points[i].z(), -1.4, 1e-6) << "point " << i;
+    ASSERT_NEAR(scan.normals[i].z(), 1.0f, 1e-6f) << "normal " << i;
+  }
+}
+
 }  // namespace
 }  // namespace dammloam

@@ -41,6 +41,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
                    defaults.registration.max_step_extrapolation);
   EXPECT_DOUBLE_EQ(loaded.in_scan_velocity_sigma, defaults.in_scan_velocity_sigma);
   EXPECT_DOUBLE_EQ(loaded.in_scan_rate_sigma, defaults.in_scan_rate_sigma);
+  EXPECT_DOUBLE_EQ(loaded.in_scan_angular_acceleration_sigma,
+                   defaults.in_scan_angular_acceleration_sigma);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
@@ -48,7 +50,8 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
       "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0}\n"
       "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
-      "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0}\n"));
+      "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
+      "               in_scan_angular_acceleration_sigma: 0}\n"));
   EXPECT_EQ(c.registration.mode, RegistrationMode::kPlaneOnly);
   EXPECT_EQ(c.registration.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
@@ -57,6 +60,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
   EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
+  EXPECT_DOUBLE_EQ(c.in_scan_angular_acceleration_sigma, 0.0);
   EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
 }
 
@@ -78,6 +82,13 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf("motion_prior: {in_scan_velocity_sigma: -1}")
                 .find("motion_prior.in_scan_velocity_sigma: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_angular_acceleration_sigma: -2}")
+                .find("motion_prior.in_scan_angular_acceleration_sigma: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
+                    "               in_scan_angular_acceleration_sigma: 1}")
+                .find("motion_prior.in_scan_angular_acceleration_sigma: needs the in-scan motion"),
             std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
