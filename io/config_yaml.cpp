@@ -83,6 +83,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("weight_always", c.weight_always);
   s.Get("strong_normal_cosine", c.strong_normal_cosine);
   s.Get("point_flatness", c.point_flatness);
+  s.Get("point_shape_min_points", c.point_shape_min_points);
   s.Get("weak_eigenvalue_ratio", c.weak_eigenvalue_ratio);
   s.Get("residual_sigma", c.residual_sigma);
   s.Get("correspondence_reuse_distance", c.correspondence_reuse_distance);
@@ -206,6 +207,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
           "registration.strong_normal_cosine", "must be in [0, 1]");
   Require(r.point_flatness >= 0.0 && r.point_flatness <= 1.0 / 3.0,
           "registration.point_flatness", "must be in [0, 1/3]");
+  Require(r.point_shape_min_points >= 3, "registration.point_shape_min_points",
+          "must be >= 3 (a plane needs three points)");
   Require(r.weak_eigenvalue_ratio >= 0.0 && r.weak_eigenvalue_ratio < 1.0,
           "registration.weak_eigenvalue_ratio", "must be in [0, 1)");
   Require(r.residual_sigma > 0.0, "registration.residual_sigma", "must be > 0");

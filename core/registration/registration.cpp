@@ -186,10 +186,11 @@ struct LocalShape {
   std::array<Eigen::Vector3d, 2> n;
 };
 
-LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, double flatness) {
+LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, double flatness,
+                       int min_points) {
   LocalShape shape;
   const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf(target);
-  if (hood.count < 5) return shape;
+  if (hood.count < std::max(min_points, 3)) return shape;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hood.covariance);
   const Eigen::Vector3d& lambda = eig.eigenvalues();  // ascending
   const double sum = lambda.sum();
@@ -207,7 +208,8 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
 // one registration: later iterations, and pairs landing in one voxel, reuse it.
 class ShapeCache {
  public:
-  ShapeCache(const VoxelHashMap& map, double flatness) : map_(map), flatness_(flatness) {}
+  ShapeCache(const VoxelHashMap& map, double flatness, int min_points)
+      : map_(map), flatness_(flatness), min_points_(min_points) {}
 
   // The shapes around the targets of `pairs`, in their order.
   std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
@@ -221,7 +223,8 @@ class ShapeCache {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, missing.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          computed[i] = ShapeAround(map_, Centre(missing[i]), flatness_);
+                          computed[i] =
+                              ShapeAround(map_, Centre(missing[i]), flatness_, min_points_);
                         }
                       });
     for (std::size_t i = 0; i < missing.size(); ++i) shapes_[missing[i]] = computed[i];
@@ -236,6 +239,7 @@ class ShapeCache {
   }
   const VoxelHashMap& map_;
   double flatness_;
+  int min_points_;
   // Node-based: pointers handed out stay valid while later lookups insert.
   std::unordered_map<Voxel, LocalShape, VoxelHash> shapes_;
 };
@@ -482,7 +486,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
-  ShapeCache shapes_around(map, config.point_flatness);
+  ShapeCache shapes_around(map, config.point_flatness, config.point_shape_min_points);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
   double mean_time_sq = 0.0;
   if constexpr (K > 0) {

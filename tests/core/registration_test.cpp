@@ -250,6 +250,10 @@ TEST(Registration, FullModeTreatsPointPairsOnAWallAsPlanes) {
   const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
   const MotionPrior prior = TwoCentimetrePrior();
   RegistrationConfig config;
+  // Sampled every 0.3 m on a 0.5 m map, the walls' top rows leave 15 map points in a
+  // neighbourhood, under the default bar for judging one; this test is about pairs on judged
+  // planes (SparseNeighbourhoodsAreNotTakenForSurfaces covers the bar).
+  config.point_shape_min_points = 5;
   const RegistrationResult r = RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3,
                                             config, prior);
   ASSERT_TRUE(r.enough_correspondences);
@@ -288,6 +292,64 @@ TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
   EXPECT_TRUE(r.degeneracy.AnyDegenerate());
   // 15 points with 2 cm residual noise outweigh a 2 cm prior 15 to 1.
   EXPECT_NEAR(r.T_world_sensor.translation().x(), 0.4, 0.006);
+}
+
+// Height as the weak direction, as at the start of a hand-held VLP-16 corridor walk: a short
+// corridor whose walls are mapped only near its ends, a few rings across floor and ceiling
+// (4 % of the walls' information) and, in between, single rings along the walls, a handful of
+// map points in each neighbourhood: lines facing up. The scan's rings hit the walls 0.1 m
+// higher than the map's (the ring pattern, not the motion). Too sparse to be judged, they stay
+// point pairs and the height stays with the floor and ceiling; judged as point-to-line at the
+// planes' weight, they drag it towards the rings.
+TEST(Registration, SparseNeighbourhoodsAreNotTakenForSurfaces) {
+  test::LabelledCloud map_cloud, scan_world;
+  const auto both = [&](const Eigen::Vector3d& p, PointClass c, const Eigen::Vector3f& n) {
+    map_cloud.Add(p, c, n);
+    scan_world.Add(p, c, n);
+  };
+  for (double z = -1.0; z <= 1.8; z += 0.1) {
+    for (double x = 4.0; x <= 6.0; x += 0.1) {
+      for (const double sx : {-1.0, 1.0}) {
+        both({sx * x, -1.2, z}, PointClass::Wall, {0, 1, 0});
+        both({sx * x, 1.2, z}, PointClass::Wall, {0, -1, 0});
+      }
+    }
+    for (double y = -1.2; y <= 1.2; y += 0.1) {
+      both({-6.0, y, z}, PointClass::Wall, {1, 0, 0});
+      both({6.0, y, z}, PointClass::Wall, {-1, 0, 0});
+    }
+  }
+  for (const double x : {-5.0, 5.0}) {
+    for (double y = -1.2; y <= 1.2; y += 0.1) {
+      both({x, y, -1.0}, PointClass::Ground, {0, 0, 1});
+      both({x, y, 1.8}, PointClass::Roof, {0, 0, -1});
+    }
+  }
+  for (double x = -3.0; x <= 3.0; x += 0.2) {
+    for (const double z : {-0.4, 0.6, 1.6}) {
+      for (const double y : {-1.2, 1.2}) {
+        map_cloud.Add({x, y, z}, PointClass::Edge, {0, 0, 0});
+        scan_world.Add({x, y, z + 0.1}, PointClass::Edge, {0, 0, 0});
+      }
+    }
+  }
+  const VoxelHashMap map = MapOf(map_cloud, 0.3);  // one ring per 27-voxel neighbourhood
+  const Eigen::Isometry3d T_true = test::MakePose(0.0, 0.0, 0.03, 0.0, 0.0, 0.0);
+  const auto source = scan_world.Transformed(T_true.inverse());
+  const auto run = [&](int min_points) {
+    RegistrationConfig config;
+    config.point_shape_min_points = min_points;
+    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 0.5,
+                        0.3, config, TwoCentimetrePrior());
+  };
+  const RegistrationResult r = run(RegistrationConfig{}.point_shape_min_points);
+  ASSERT_TRUE(r.enough_correspondences);
+  ASSERT_TRUE(r.degeneracy.degenerate[0]);
+  EXPECT_GT(std::abs(r.degeneracy.eigenvectors.col(0).z()), 0.99);  // height is the weak one
+  EXPECT_GT(r.num_point, 150u);
+  EXPECT_NEAR(r.T_world_sensor.translation().z(), 0.03, 0.01);
+  const RegistrationResult judged = run(5);  // the previous bar: every ring is a line
+  EXPECT_GT(std::abs(judged.T_world_sensor.translation().z() - 0.03), 0.025);
 }
 
 class KnownMotion : public ::testing::TestWithParam<RegistrationMode> {};

@@ -43,11 +43,14 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   EXPECT_DOUBLE_EQ(loaded.in_scan_rate_sigma, defaults.in_scan_rate_sigma);
   EXPECT_DOUBLE_EQ(loaded.in_scan_angular_acceleration_sigma,
                    defaults.in_scan_angular_acceleration_sigma);
+  EXPECT_EQ(loaded.registration.point_shape_min_points,
+            defaults.registration.point_shape_min_points);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
   const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
-      "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0}\n"
+      "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0,\n"
+      "               point_shape_min_points: 12}\n"
       "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
       "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
@@ -58,6 +61,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(c.preprocess.classifier.edge_angle_deg, 20.0);
   EXPECT_FALSE(c.deskew);
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
+  EXPECT_EQ(c.registration.point_shape_min_points, 12);
   EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_angular_acceleration_sigma, 0.0);
@@ -76,6 +80,9 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
                 .find("registration.max_step_extrapolation"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {point_shape_min_points: 2}")
+                .find("registration.point_shape_min_points: must be >= 3"),
             std::string::npos);
   EXPECT_NE(ErrorOf("motion_prior: {in_scan_rate_sigma: 0}")
                 .find("motion_prior.in_scan_velocity_sigma: and in_scan_rate_sigma must both"),
