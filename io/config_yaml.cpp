@@ -101,6 +101,7 @@ void ReadMotionPrior(Section s, OdometryConfig& c) {
   s.Get("in_scan_velocity_sigma", c.in_scan_velocity_sigma);
   s.Get("in_scan_rate_sigma", c.in_scan_rate_sigma);
   s.Get("in_scan_angular_acceleration_sigma", c.in_scan_angular_acceleration_sigma);
+  s.Get("hold_spin_axis_acceleration", c.in_scan_hold_spin_axis_acceleration);
   s.RejectUnknownKeys();
 }
 

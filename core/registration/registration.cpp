@@ -428,12 +428,15 @@ Eigen::Matrix<double, K, K> InScanInformation(const MotionPrior& prior,
   constexpr double kHeld = 1e4;  // times the prior's information: effectively fixed
   if constexpr (K == 9) {
     // About the spin axis an acceleration only warps the azimuths, which the scene's lateral
-    // position and the ring pattern also move: estimated there, it drifted the wheeled VLP-16
-    // corridor sideways (lateral APE 4 -> 15 mm). The shake's harm is the tilt of the scan's
-    // ends, about the other two axes.
-    const double a = prior.scan_angular_acceleration_sigma;
-    information.template bottomRightCorner<3, 3>() += kHeld / (a * a) * spin_axis *
-                                                      spin_axis.transpose();
+    // position and the ring pattern also move. Estimated there at 1 rad/s^2 it drifted the
+    // wheeled VLP-16 corridor sideways (lateral APE 4 -> 15 mm); at 0.3 it halves the 1-frame
+    // error outdoors but lets the hand-held corridors drift (README), so the hold is an option
+    // (MotionPrior::hold_spin_axis_acceleration), on by default.
+    if (prior.hold_spin_axis_acceleration) {
+      const double a = prior.scan_angular_acceleration_sigma;
+      information.template bottomRightCorner<3, 3>() += kHeld / (a * a) * spin_axis *
+                                                        spin_axis.transpose();
+    }
   }
   for (int i = 0; i < 3; ++i) {
     if (!planar_report.degenerate[i]) continue;
