@@ -34,10 +34,10 @@ struct OdometryConfig {
   // hand's 4-9 Hz shake of 0.3 deg reverses its turn within a 0.1 s scan; the even part of
   // that turn (the scan's two ends tilted one way against its middle) shifts the floor and
   // ceiling ahead and behind the same way, like a change of height, which a constant in-scan
-  // rate cannot take up. Like the two above,
-  // a regulariser: the shake's physical scale is 5-10 rad/s^2, but at 1 the VLP-16's few floor
-  // and ceiling pairs let it trade with the height and the wheeled zigzag drifted (APE 0.023
-  // -> 0.037); 0.3 keeps most of the gain on the hand-held and legged runs (README).
+  // rate cannot take up. Like the two above, a regulariser: the shake's physical scale is
+  // 5-10 rad/s^2, but at 1 the VLP-16's few floor and ceiling pairs let it trade with the
+  // height and the wheeled zigzag drifted (APE 0.023 -> 0.037); 0.3 keeps most of the gain on
+  // the hand-held and legged runs (README).
   double in_scan_angular_acceleration_sigma = 0.3;
   // Hold that acceleration about the sensor's spin axis (true, as in the previous releases).
   // false: estimated there too, so a hand's yaw shake no longer warps the scan's azimuths:
