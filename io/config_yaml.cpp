@@ -26,6 +26,8 @@ void ReadPreprocess(Section s, PreprocessConfig& c) {
   ri.Get("rows", c.range_image.rows);
   ri.Get("cols", c.range_image.cols);
   ri.Get("max_auto_cols", c.range_image.max_auto_cols);
+  ri.Get("max_auto_pixels", c.range_image.max_auto_pixels);
+  ri.Get("min_auto_cols", c.range_image.min_auto_cols);
   ri.Get("max_inherit_distance", c.range_image.max_inherit_distance);
   ri.RejectUnknownKeys();
   Section n = s.Child("normals");
@@ -148,6 +150,10 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(p.range_image.cols >= 0, "preprocess.range_image.cols", "must be >= 0");
   Require(p.range_image.max_auto_cols >= 0, "preprocess.range_image.max_auto_cols",
           "must be >= 0");
+  Require(p.range_image.max_auto_pixels >= 0, "preprocess.range_image.max_auto_pixels",
+          "must be >= 0");
+  Require(p.range_image.min_auto_cols >= 1, "preprocess.range_image.min_auto_cols",
+          "must be >= 1");
   Require(p.range_image.max_inherit_distance >= 0.0, "preprocess.range_image.max_inherit_distance",
           "must be >= 0");
   Require(p.normals.min_incidence_deg > 0.0 && p.normals.min_incidence_deg < 90.0,

@@ -22,9 +22,14 @@ constexpr double kAngleTableStep = 0.005 * std::numbers::pi / 180.0;  // 0.005 d
 
 int PositiveOr(int value, int fallback) { return value > 0 ? value : fallback; }
 
-int AutoColumns(int sensor_columns, int max_auto_cols) {
-  const int columns = PositiveOr(sensor_columns, 1024);
-  return max_auto_cols > 0 ? std::min(columns, max_auto_cols) : columns;
+int AutoColumns(int sensor_columns, int rows, const RangeImageConfig& config) {
+  int columns = PositiveOr(sensor_columns, 1024);
+  if (config.max_auto_cols > 0) columns = std::min(columns, config.max_auto_cols);
+  if (config.max_auto_pixels > 0 && rows > 0) {
+    const int budget = std::max(config.max_auto_pixels / rows, std::max(config.min_auto_cols, 1));
+    columns = std::min(columns, budget);
+  }
+  return columns;
 }
 
 bool Projectable(const Eigen::Vector3d& p) {
@@ -39,7 +44,7 @@ double Elevation(const Eigen::Vector3d& p) { return std::atan2(p.z(), p.head<2>(
 RangeImage::RangeImage(const RangeImageConfig& config, const SensorModel& sensor)
     : configured_rows_(PositiveOr(config.rows, PositiveOr(sensor.rings, 64))),
       rows_(configured_rows_),
-      cols_(PositiveOr(config.cols, AutoColumns(sensor.columns, config.max_auto_cols))) {
+      cols_(PositiveOr(config.cols, AutoColumns(sensor.columns, configured_rows_, config))) {
   for (const double deg : sensor.vertical_angles_deg) {
     if (std::isfinite(deg)) vertical_angles_rad_.push_back(deg * std::numbers::pi / 180.0);
   }

@@ -15,6 +15,13 @@ namespace {
 
 using test::SyntheticLidar;
 
+// The sensor's own grid (no pixel budget): these tests check where rays land in it.
+RangeImageConfig SensorGrid() {
+  RangeImageConfig config;
+  config.max_auto_pixels = 0;
+  return config;
+}
+
 TEST(RangeImage, RingAndColumnRaysLandInTheirPixel) {
   const SyntheticLidar lidar;  // 64 x 1024
   std::mt19937 rng(7);
@@ -29,7 +36,7 @@ TEST(RangeImage, RingAndColumnRaysLandInTheirPixel) {
     rings.push_back(static_cast<std::int16_t>(r));
     pixels.emplace_back(r, c);
   }
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(points, rings);
   ASSERT_EQ(image.rows(), 64);
   ASSERT_EQ(image.cols(), 1024);
@@ -50,7 +57,7 @@ TEST(RangeImage, ColumnConventionAndWrap) {
   SensorModel model;
   model.rings = 1;
   model.columns = 8;
-  RangeImage image(RangeImageConfig{}, model);
+  RangeImage image(SensorGrid(), model);
   const double eps = 1e-6;
   const std::vector<Eigen::Vector3d> points = {
       {-1.0, -eps, 0.0},  // azimuth just above -pi: column 0
@@ -70,7 +77,7 @@ TEST(RangeImage, NearestWinsAndTiesGoToTheLowerIndex) {
   const SyntheticLidar lidar;
   const Eigen::Vector3d d = lidar.Direction(10, 100);
   const std::vector<Eigen::Vector3d> points = {10.0 * d, 5.0 * d, 5.0 * d, 7.0 * d};
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(points, std::vector<std::int16_t>(points.size(), 10));
   EXPECT_EQ(image.index(10, 100), 1);
   EXPECT_FLOAT_EQ(image.range(10, 100), 5.0f);
@@ -92,7 +99,7 @@ TEST(RangeImage, InvalidPointsAndNegativeRingsAreNotProjected) {
                                                Eigen::Vector3d::Zero(),
                                                3.0 * lidar.Direction(5, 5),
                                                3.0 * lidar.Direction(6, 6)};
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(points, {5, 5, 5, -1});
   EXPECT_EQ(image.pixel_of(0), -1);
   EXPECT_EQ(image.pixel_of(1), -1);
@@ -104,7 +111,7 @@ TEST(RangeImage, RingsBeyondTheModelGrowTheImage) {
   SensorModel model;
   model.rings = 16;
   model.columns = 360;
-  RangeImage image(RangeImageConfig{}, model);
+  RangeImage image(SensorGrid(), model);
   image.Build({{1, 0, 0}}, {31});
   EXPECT_EQ(image.rows(), 32);
   EXPECT_EQ(image.pixel_of(0) / 360, 31);
@@ -137,7 +144,7 @@ TEST(RangeImage, VerticalAnglesGiveTheNearestBeamRow) {
   expected.push_back(0);
   points.push_back(5.0 * Eigen::Vector3d(1, 0, -1));  // 45 deg down
   expected.push_back(15);
-  RangeImage image(RangeImageConfig{}, model);
+  RangeImage image(SensorGrid(), model);
   image.Build(points, {});
   ASSERT_EQ(image.rows(), 16);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -159,7 +166,7 @@ TEST(RangeImage, UniformElevationBinsWithoutRingsOrAngles) {
       expected.push_back(r);
     }
   }
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(points, {});
   ASSERT_EQ(image.rows(), 16);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -193,7 +200,7 @@ TEST(RangeImage, RingMajorOrderGivesTheRings) {
       }
     }
   }
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(points, {});
   ASSERT_EQ(image.rows(), 64);
   int wrong = 0;
@@ -212,7 +219,7 @@ TEST(RangeImage, ColumnMajorOrderFallsBackToElevationBins) {
     scene.room = {{-10, -10, -3}, {10, 10, 3}};
     return test::CastScan(lidar, scene, Eigen::Isometry3d::Identity(), nullptr);
   }();
-  RangeImage image(RangeImageConfig{}, lidar.Model());
+  RangeImage image(SensorGrid(), lidar.Model());
   image.Build(scan.points, {});
   ASSERT_EQ(image.rows(), 64);
   for (std::size_t i = 0; i < scan.size(); i += 13) {
@@ -221,7 +228,7 @@ TEST(RangeImage, ColumnMajorOrderFallsBackToElevationBins) {
 }
 
 TEST(RangeImage, CorruptRingsAreNotProjected) {
-  RangeImage image(RangeImageConfig{}, SensorModel{});
+  RangeImage image(SensorGrid(), SensorModel{});
   image.Build({{1, 0, 0}, {0, 1, 0}}, {30000, 2});
   EXPECT_EQ(image.rows(), 64);
   EXPECT_EQ(image.pixel_of(0), -1);
@@ -246,12 +253,37 @@ TEST(RangeImage, AutomaticColumnsAreTheSensorsUpToTheCap) {
   SensorModel coarse = os1;
   coarse.columns = 256;
   RangeImageConfig config;  // cols 0: automatic
-  EXPECT_EQ(RangeImage(config, os1).cols(), 1024) << "no cap by default";
+  config.max_auto_pixels = 0;
+  EXPECT_EQ(RangeImage(config, os1).cols(), 1024) << "no cap without a pixel budget";
   config.max_auto_cols = 512;
   EXPECT_EQ(RangeImage(config, os1).cols(), 512);
   EXPECT_EQ(RangeImage(config, coarse).cols(), 256);
   config.cols = 2048;  // an explicit count is taken as it is
   config.max_auto_cols = 512;
+  EXPECT_EQ(RangeImage(config, os1).cols(), 2048);
+}
+
+// The default pixel budget halves a dense sensor's columns and leaves a sparse one's grid.
+TEST(RangeImage, PixelBudgetCutsOnlyDenseSensors) {
+  SensorModel os1;
+  os1.rings = 64;
+  os1.columns = 1024;
+  SensorModel vlp;
+  vlp.rings = 16;
+  vlp.columns = 1800;
+  SensorModel os1_128 = os1;
+  os1_128.rings = 128;
+  const RangeImageConfig defaults;
+  EXPECT_EQ(RangeImage(defaults, os1).cols(), 512);
+  EXPECT_EQ(RangeImage(defaults, vlp).cols(), 1800);
+  EXPECT_EQ(RangeImage(defaults, os1_128).cols(), 512) << "never below min_auto_cols";
+  RangeImageConfig config;
+  config.rows = 32;  // the image's rows, not the sensor's, count
+  EXPECT_EQ(RangeImage(config, os1).cols(), 1024);
+  config.rows = 0;
+  config.min_auto_cols = 64;
+  EXPECT_EQ(RangeImage(config, os1_128).cols(), 256);
+  config.cols = 2048;  // an explicit count is taken as it is
   EXPECT_EQ(RangeImage(config, os1).cols(), 2048);
 }
 

@@ -37,6 +37,10 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   EXPECT_DOUBLE_EQ(loaded.threshold_range_factor, defaults.threshold_range_factor);
   EXPECT_EQ(loaded.preprocess.range_image.max_auto_cols,
             defaults.preprocess.range_image.max_auto_cols);
+  EXPECT_EQ(loaded.preprocess.range_image.max_auto_pixels,
+            defaults.preprocess.range_image.max_auto_pixels);
+  EXPECT_EQ(loaded.preprocess.range_image.min_auto_cols,
+            defaults.preprocess.range_image.min_auto_cols);
   EXPECT_DOUBLE_EQ(loaded.registration.max_step_extrapolation,
                    defaults.registration.max_step_extrapolation);
   EXPECT_DOUBLE_EQ(loaded.in_scan_velocity_sigma, defaults.in_scan_velocity_sigma);
@@ -81,6 +85,12 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("map: {max_distance: -5}").find("map.max_distance"), std::string::npos);
   EXPECT_NE(ErrorOf("preprocess: {range_image: {max_auto_cols: -1}}")
                 .find("preprocess.range_image.max_auto_cols"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("preprocess: {range_image: {max_auto_pixels: -1}}")
+                .find("preprocess.range_image.max_auto_pixels"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("preprocess: {range_image: {min_auto_cols: 0}}")
+                .find("preprocess.range_image.min_auto_cols"),
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
                 .find("registration.max_step_extrapolation"),
