@@ -103,7 +103,9 @@ void ReadMotionPrior(Section s, OdometryConfig& c) {
   s.Get("in_scan_velocity_sigma", c.in_scan_velocity_sigma);
   s.Get("in_scan_rate_sigma", c.in_scan_rate_sigma);
   s.Get("in_scan_angular_acceleration_sigma", c.in_scan_angular_acceleration_sigma);
-  s.Get("hold_spin_axis_acceleration", c.in_scan_hold_spin_axis_acceleration);
+  s.Get("in_scan_spin_axis_acceleration_sigma", c.in_scan_spin_axis_acceleration_sigma);
+  s.Retired("hold_spin_axis_acceleration",
+            "in_scan_spin_axis_acceleration_sigma (0 holds it, as 'true' did)");
   s.RejectUnknownKeys();
 }
 
@@ -228,6 +230,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(c.in_scan_rate_sigma >= 0.0, "motion_prior.in_scan_rate_sigma", "must be >= 0");
   Require(c.in_scan_angular_acceleration_sigma >= 0.0,
           "motion_prior.in_scan_angular_acceleration_sigma", "must be >= 0");
+  Require(c.in_scan_spin_axis_acceleration_sigma >= 0.0,
+          "motion_prior.in_scan_spin_axis_acceleration_sigma", "must be >= 0");
   Require((c.in_scan_velocity_sigma > 0.0) == (c.in_scan_rate_sigma > 0.0),
           "motion_prior.in_scan_velocity_sigma",
           "and in_scan_rate_sigma must both be > 0 (in-scan motion on) or both 0 (off)");

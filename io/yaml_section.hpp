@@ -54,6 +54,12 @@ class Section {
     }
   }
 
+  // A key of an earlier release that a newer one replaced: named with its replacement rather
+  // than reported as a typo.
+  void Retired(const std::string& key, const std::string& replacement) const {
+    if (node_ && node_.IsMap() && node_[key]) Fail(key, "was replaced by " + replacement);
+  }
+
   // Throws ConfigError "<path>.<key>: <what>" (just "<path>: <what>" for an empty key).
   [[noreturn]] void Fail(const std::string& key, const std::string& what) const {
     throw ConfigError((key.empty() ? path_ : Join(key)) + ": " + what);

@@ -145,7 +145,7 @@ MotionPrior Odometry::Prior(double dt, bool holds) {
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
           config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
           config_.in_scan_rate_sigma, config_.in_scan_angular_acceleration_sigma,
-          config_.in_scan_hold_spin_axis_acceleration};
+          config_.in_scan_spin_axis_acceleration_sigma};
 }
 
 Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,

@@ -39,12 +39,13 @@ struct OdometryConfig {
   // height and the wheeled zigzag drifted (APE 0.023 -> 0.037); 0.3 keeps most of the gain on
   // the hand-held and legged runs (README).
   double in_scan_angular_acceleration_sigma = 0.3;
-  // Hold that acceleration about the sensor's spin axis (true, as in the previous releases).
-  // false: estimated there too, so a hand's yaw shake no longer warps the scan's azimuths:
-  // 1-frame RPE fell on every preset (campus 0.0196 -> 0.0099 m, legged tunnel OS1-64 0.0121 ->
-  // 0.0085), but the hand-held corridors drifted more (APE median VLP-16 0.023 -> 0.033,
-  // OS1-64 0.018 -> 0.024; README), so it stays held by default.
-  bool in_scan_hold_spin_axis_acceleration = true;
+  // About the sensor's spin axis that acceleration has its own sigma (rad/s^2; 0 holds it, as
+  // the previous release did). A hand's yaw shake warps the scan's azimuths, and at the sigma
+  // of the other axes (0.3) the 1-frame RPE fell on every preset but the hand-held corridors
+  // drifted (APE median VLP-16 0.023 -> 0.033): the warp trades with the slow turn of a walk
+  // down a corridor. At 0.1 the RPE still falls on every preset and the APE falls on most
+  // (hand-held OS1-64 median 0.018 -> 0.016, campus 0.021 -> 0.015; README).
+  double in_scan_spin_axis_acceleration_sigma = 0.1;
   // Map insertion keeps one point per class per voxel of this fraction of the map voxel.
   double map_frame_voxel_factor = 0.5;
   // The adaptive threshold turns a rotation deviation into a displacement at this multiple of

@@ -430,13 +430,12 @@ Eigen::Matrix<double, K, K> InScanInformation(const MotionPrior& prior,
     // About the spin axis an acceleration only warps the azimuths, which the scene's lateral
     // position and the ring pattern also move. Estimated there at 1 rad/s^2 it drifted the
     // wheeled VLP-16 corridor sideways (lateral APE 4 -> 15 mm); at 0.3 it halves the 1-frame
-    // error outdoors but lets the hand-held corridors drift (README), so the hold is an option
-    // (MotionPrior::hold_spin_axis_acceleration), on by default.
-    if (prior.hold_spin_axis_acceleration) {
-      const double a = prior.scan_angular_acceleration_sigma;
-      information.template bottomRightCorner<3, 3>() += kHeld / (a * a) * spin_axis *
-                                                        spin_axis.transpose();
-    }
+    // error outdoors but lets the hand-held corridors drift (README). So the spin axis has a
+    // sigma of its own (MotionPrior::scan_spin_axis_acceleration_sigma; 0 holds it).
+    const double a = prior.scan_angular_acceleration_sigma;
+    const double spin = prior.scan_spin_axis_acceleration_sigma;
+    const double added = spin > 0.0 ? 1.0 / (spin * spin) - 1.0 / (a * a) : kHeld / (a * a);
+    information.template bottomRightCorner<3, 3>() += added * spin_axis * spin_axis.transpose();
   }
   for (int i = 0; i < 3; ++i) {
     if (!planar_report.degenerate[i]) continue;

@@ -55,8 +55,8 @@ struct MotionPrior {
   // With both above: 1-sigma angular acceleration (rad/s^2) within one scan, estimated too. A
   // hand's 4-9 Hz shake reverses its turn within a scan, which a constant rate cannot follow.
   double scan_angular_acceleration_sigma = 0.0;
-  // Hold that acceleration about the sensor's spin axis (see InScanInformation).
-  bool hold_spin_axis_acceleration = true;
+  // Its own sigma about the sensor's spin axis (see InScanInformation); 0 holds it there.
+  double scan_spin_axis_acceleration_sigma = 0.0;
 };
 
 // Robust Gauss-Newton on SE(3) of sensor-frame `source` points against the map, starting at

@@ -49,8 +49,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
                    defaults.in_scan_angular_acceleration_sigma);
   EXPECT_EQ(loaded.registration.point_shape_min_points,
             defaults.registration.point_shape_min_points);
-  EXPECT_EQ(loaded.in_scan_hold_spin_axis_acceleration,
-            defaults.in_scan_hold_spin_axis_acceleration);
+  EXPECT_DOUBLE_EQ(loaded.in_scan_spin_axis_acceleration_sigma,
+                   defaults.in_scan_spin_axis_acceleration_sigma);
 }
 
 TEST(OdometryConfigYaml, ValuesAreRead) {
@@ -61,7 +61,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
       "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
       "               in_scan_angular_acceleration_sigma: 0,\n"
-      "               hold_spin_axis_acceleration: false}\n"));
+      "               in_scan_spin_axis_acceleration_sigma: 0}\n"));
   EXPECT_EQ(c.registration.mode, RegistrationMode::kPlaneOnly);
   EXPECT_EQ(c.registration.max_iterations, 7);
   EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
@@ -72,7 +72,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_angular_acceleration_sigma, 0.0);
-  EXPECT_FALSE(c.in_scan_hold_spin_axis_acceleration);
+  EXPECT_DOUBLE_EQ(c.in_scan_spin_axis_acceleration_sigma, 0.0);
   EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
 }
 
@@ -95,8 +95,12 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
                 .find("registration.max_step_extrapolation"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("motion_prior: {hold_spin_axis_acceleration: maybe}")
-                .find("motion_prior.hold_spin_axis_acceleration"),
+  EXPECT_NE(ErrorOf("motion_prior: {hold_spin_axis_acceleration: true}")
+                .find("motion_prior.hold_spin_axis_acceleration: was replaced by "
+                      "in_scan_spin_axis_acceleration_sigma"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_spin_axis_acceleration_sigma: -0.1}")
+                .find("motion_prior.in_scan_spin_axis_acceleration_sigma: must be >= 0"),
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {point_shape_min_points: 2}")
                 .find("registration.point_shape_min_points: must be >= 3"),
