@@ -431,10 +431,14 @@ Eigen::Matrix<double, K, K> InScanInformation(const MotionPrior& prior,
     // position and the ring pattern also move. Estimated there at 1 rad/s^2 it drifted the
     // wheeled VLP-16 corridor sideways (lateral APE 4 -> 15 mm); at 0.3 it halves the 1-frame
     // error outdoors but lets the hand-held corridors drift (README). So the spin axis has a
-    // sigma of its own (MotionPrior::scan_spin_axis_acceleration_sigma; 0 holds it).
+    // sigma of its own (MotionPrior::scan_spin_axis_acceleration_sigma; 0 holds it), and it is
+    // held while a direction is weak: estimated there too, the warp and the weak axis crawled
+    // together to the iteration cap and the estimate ran away along the 460 m endless corridor
+    // on two of four runs (README).
     const double a = prior.scan_angular_acceleration_sigma;
     const double spin = prior.scan_spin_axis_acceleration_sigma;
-    const double added = spin > 0.0 ? 1.0 / (spin * spin) - 1.0 / (a * a) : kHeld / (a * a);
+    const bool estimated = spin > 0.0 && !planar_report.AnyDegenerate();
+    const double added = estimated ? 1.0 / (spin * spin) - 1.0 / (a * a) : kHeld / (a * a);
     information.template bottomRightCorner<3, 3>() += added * spin_axis * spin_axis.transpose();
   }
   for (int i = 0; i < 3; ++i) {

@@ -55,7 +55,8 @@ struct MotionPrior {
   // With both above: 1-sigma angular acceleration (rad/s^2) within one scan, estimated too. A
   // hand's 4-9 Hz shake reverses its turn within a scan, which a constant rate cannot follow.
   double scan_angular_acceleration_sigma = 0.0;
-  // Its own sigma about the sensor's spin axis (see InScanInformation); 0 holds it there.
+  // Its own sigma about the sensor's spin axis (see InScanInformation); 0 holds it there, and
+  // it is held there while a direction is weak.
   double scan_spin_axis_acceleration_sigma = 0.0;
 };
 
