@@ -2,6 +2,7 @@
 // Internal to io/: reading one YAML mapping of a configuration file key by key. Shared by the
 // odometry (config_yaml.cpp) and back-end (backend_config_yaml.cpp) parsers so that both report
 // mistakes the same way: "<dotted.key>: <problem>".
+#include <cmath>
 #include <set>
 #include <sstream>
 #include <string>
@@ -26,12 +27,19 @@ class Section {
     if (!node_ || node_.IsNull()) return;
     const YAML::Node v = node_[key];
     if (!v) return;
+    T read{};
     try {
       if (!v.IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "not a scalar");
-      value = v.as<T>();
+      read = v.as<T>();
     } catch (const YAML::Exception&) {
       Fail(key, "expected " + TypeName<T>() + ", got '" + Dump(v) + "'");
     }
+    // YAML reads .inf and .nan as numbers; no setting means either, and the range checks
+    // (x > 0, x >= 0) would let an infinity through.
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(read)) Fail(key, "expected a finite number, got '" + Dump(v) + "'");
+    }
+    value = read;
   }
 
   Section Child(const std::string& key) {

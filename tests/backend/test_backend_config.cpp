@@ -105,6 +105,9 @@ TEST(BackendConfigYaml, InvalidValuesAreErrorsNamingTheKey) {
                 .find("backend.loop_closing.scan_context.rings: must be >= 1"), std::string::npos);
   EXPECT_NE(ErrorOf("loop_closing: {scan_context: {max_range: 0}}")
                 .find("loop_closing.scan_context.max_range: must be > 0"), std::string::npos);
+  EXPECT_NE(ErrorOf("loop_closing: {scan_context: {max_range: .inf}}")
+                .find("loop_closing.scan_context.max_range: expected a finite number, got '.inf'"),
+            std::string::npos);
   EXPECT_NE(ErrorOf("loop_closing: {scan_context: {rings: many}}")
                 .find("loop_closing.scan_context.rings: expected an integer, got 'many'"),
             std::string::npos);

@@ -118,6 +118,15 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
                     "               in_scan_angular_acceleration_sigma: 1}")
                 .find("motion_prior.in_scan_angular_acceleration_sigma: needs the in-scan motion"),
             std::string::npos);
+  EXPECT_NE(ErrorOf("map: {voxel_size: .inf}")
+                .find("map.voxel_size: expected a finite number, got '.inf'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("motion_prior: {in_scan_spin_axis_acceleration_sigma: .inf}")
+                .find("motion_prior.in_scan_spin_axis_acceleration_sigma: expected a finite number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {residual_sigma: .nan}")
+                .find("registration.residual_sigma: expected a finite number, got '.nan'"),
+            std::string::npos);
   EXPECT_NE(ErrorOf("map: [1, 2]").find("map: expected a mapping"), std::string::npos);
   EXPECT_NE(ErrorOf("bogus: 1").find("bogus: unknown key"), std::string::npos);
   EXPECT_NE(ErrorOf("threshold_range_factor: -1").find("threshold_range_factor: must be >= 0"),
