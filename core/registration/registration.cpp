@@ -173,15 +173,19 @@ Eigen::Matrix3d PointResidualMetric(const DegeneracyReport& report) {
 // becomes point-to-plane. On a line (a pipe, a cable) it becomes point-to-line, two planes
 // through the line. A structure (a door jamb, a lamp, an end wall's edge, a corner) keeps the
 // full point residual: flattening the corners along the corridor too left a hand-held VLP-16
-// walk an excursion of 1.1 m (0.097 m APE against 0.045 m). Then every planar pair counts
+// walk an excursion of 1.1 m (0.097 m APE against 0.045 m). A neighbourhood too sparse to be
+// judged (a ring or two of a far wall) tells nothing about what the pair observes: it keeps its
+// point residual across the weak directions and none along them. Then every planar pair counts
 // along a weak direction only through a normal that faces it (|n.v| >= strong_cosine): the
 // noise of a wall's normal along a corridor is not information about the axis.
 struct WeakAwarePairs {
   std::vector<Correspondence> planar;
   std::vector<Correspondence> point;
+  std::vector<Correspondence> unjudged;  // point pairs whose map neighbourhood is too sparse
 };
 
 struct LocalShape {
+  bool judged = false;  // the neighbourhood held enough map points to tell its shape
   int planes = 0;  // 0: a structure; 1: a plane with normal n[0]; 2: a line, normal to n[0], n[1]
   std::array<Eigen::Vector3d, 2> n;
 };
@@ -191,6 +195,7 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
   LocalShape shape;
   const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf(target);
   if (hood.count < std::max(min_points, 3)) return shape;
+  shape.judged = true;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hood.covariance);
   const Eigen::Vector3d& lambda = eig.eigenvalues();  // ascending
   const double sum = lambda.sum();
@@ -246,9 +251,13 @@ class ShapeCache {
 
 WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport& report,
                          const RegistrationConfig& config, ShapeCache& shapes_around) {
-  WeakAwarePairs out{pairs.planar, {}};
+  WeakAwarePairs out{pairs.planar, {}, {}};
   const std::vector<const LocalShape*> shapes = shapes_around.Lookup(pairs.point);
   for (std::size_t i = 0; i < pairs.point.size(); ++i) {
+    if (!shapes[i]->judged) {
+      out.unjudged.push_back(pairs.point[i]);
+      continue;
+    }
     if (shapes[i]->planes == 0) {
       out.point.push_back(pairs.point[i]);
       continue;
@@ -361,6 +370,9 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
     NormalEquations<N> system = PlanarSystem<N>(
         sorted.planar, std::vector<double>(sorted.planar.size(), 1.0), alpha, kernel_scale, basis);
     system += PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(), kernel_scale,
+                             basis);
+    // basis.point_metric projects the weak directions out.
+    system += PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric, kernel_scale,
                              basis);
     return system;
   }
