@@ -303,7 +303,7 @@ WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport&
       const double d = c.normal.dot(v);
       if (std::abs(d) < config.strong_normal_cosine) {
         c.normal -= d * v;
-      } else if (j < pairs.planar.size()) {
+      } else if (j < pairs.planar.size()) {  // pairs made from a shape already carry its normal
         facing.push_back(j);
       }
     }
