@@ -86,6 +86,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("strong_normal_cosine", c.strong_normal_cosine);
   s.Get("point_flatness", c.point_flatness);
   s.Get("point_shape_min_points", c.point_shape_min_points);
+  s.Get("line_normal_support", c.line_normal_support);
   s.Get("weak_eigenvalue_ratio", c.weak_eigenvalue_ratio);
   s.Get("residual_sigma", c.residual_sigma);
   s.Get("correspondence_reuse_distance", c.correspondence_reuse_distance);
@@ -218,6 +219,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
           "registration.point_flatness", "must be in [0, 1/3]");
   Require(r.point_shape_min_points >= 3, "registration.point_shape_min_points",
           "must be >= 3 (a plane needs three points)");
+  Require(r.line_normal_support >= 0.0 && r.line_normal_support <= 1.0,
+          "registration.line_normal_support", "must be in [0, 1]");
   Require(r.weak_eigenvalue_ratio >= 0.0 && r.weak_eigenvalue_ratio < 1.0,
           "registration.weak_eigenvalue_ratio", "must be in [0, 1)");
   Require(r.residual_sigma > 0.0, "registration.residual_sigma", "must be > 0");

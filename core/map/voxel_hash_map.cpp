@@ -170,6 +170,24 @@ VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d&
   return out;
 }
 
+Eigen::Matrix3d VoxelHashMap::NormalScatterOf(const Eigen::Vector3d& point, int& count) const {
+  const Voxel voxel = PointToVoxel(point, voxel_size_);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  count = 0;
+  for (const auto& offset : kNeighbourOffsets) {
+    const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
+    if (it == map_.end()) continue;
+    for (const MapPoint& p : it->second.points) {
+      if (p.normal.squaredNorm() < 0.5f) continue;  // zero: no normal
+      const Eigen::Vector3d n = p.normal.cast<double>();
+      scatter.noalias() += n * n.transpose();
+      ++count;
+    }
+  }
+  if (count > 0) scatter /= count;
+  return scatter;
+}
+
 std::vector<MapPoint> VoxelHashMap::Points() const {
   std::vector<MapPoint> out;
   out.reserve(NumPoints());

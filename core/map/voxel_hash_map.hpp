@@ -51,6 +51,9 @@ class VoxelHashMap {
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   };
   Neighbourhood NeighbourhoodOf(const Eigen::Vector3d& point) const;
+  // Over the same 27 voxels, the mean of n n^T of the stored normals: which ways the surface
+  // there faces. Points without a normal are left out; `count` says how many had one.
+  Eigen::Matrix3d NormalScatterOf(const Eigen::Vector3d& point, int& count) const;
 
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const { return num_points_; }

@@ -190,8 +190,23 @@ struct LocalShape {
   std::array<Eigen::Vector3d, 2> n;
 };
 
+// A line keeps a normal only where its points face it (see line_normal_support): one ring's
+// arc across a plane is a line of points that all face the plane's normal.
+void KeepFacedLineNormals(const VoxelHashMap& map, const Eigen::Vector3d& target,
+                          double min_support, LocalShape& shape) {
+  if (shape.planes != 2 || !(min_support > 0.0)) return;
+  int with_normal = 0;
+  const Eigen::Matrix3d faces = map.NormalScatterOf(target, with_normal);
+  if (with_normal < 3) return;  // nothing to judge by
+  const bool faced0 = shape.n[0].dot(faces * shape.n[0]) >= min_support;
+  const bool faced1 = shape.n[1].dot(faces * shape.n[1]) >= min_support;
+  if (faced0 == faced1) return;
+  shape.planes = 1;
+  if (faced1) shape.n[0] = shape.n[1];
+}
+
 LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, double flatness,
-                       int min_points) {
+                       int min_points, double line_normal_support) {
   LocalShape shape;
   const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf(target);
   if (hood.count < std::max(min_points, 3)) return shape;
@@ -206,6 +221,7 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
   } else if (lambda(0) / sum < flatness) {
     shape.planes = 1;
   }
+  KeepFacedLineNormals(map, target, line_normal_support, shape);
   return shape;
 }
 
@@ -213,8 +229,11 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
 // one registration: later iterations, and pairs landing in one voxel, reuse it.
 class ShapeCache {
  public:
-  ShapeCache(const VoxelHashMap& map, double flatness, int min_points)
-      : map_(map), flatness_(flatness), min_points_(min_points) {}
+  ShapeCache(const VoxelHashMap& map, const RegistrationConfig& config)
+      : map_(map),
+        flatness_(config.point_flatness),
+        min_points_(config.point_shape_min_points),
+        line_normal_support_(config.line_normal_support) {}
 
   // The shapes around the targets of `pairs`, in their order.
   std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
@@ -229,7 +248,8 @@ class ShapeCache {
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
                           computed[i] =
-                              ShapeAround(map_, Centre(missing[i]), flatness_, min_points_);
+                              ShapeAround(map_, Centre(missing[i]), flatness_, min_points_,
+                                          line_normal_support_);
                         }
                       });
     for (std::size_t i = 0; i < missing.size(); ++i) shapes_[missing[i]] = computed[i];
@@ -245,6 +265,7 @@ class ShapeCache {
   const VoxelHashMap& map_;
   double flatness_;
   int min_points_;
+  double line_normal_support_;
   // Node-based: pointers handed out stay valid while later lookups insert.
   std::unordered_map<Voxel, LocalShape, VoxelHash> shapes_;
 };
@@ -538,7 +559,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
-  ShapeCache shapes_around(map, config.point_flatness, config.point_shape_min_points);
+  ShapeCache shapes_around(map, config);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
   double mean_time_sq = 0.0;
   if constexpr (K > 0) {

@@ -416,6 +416,46 @@ TEST(Registration, AFacingNormalOnAWallThatDoesNotFaceTheAxisIsNotTrusted) {
   EXPECT_NEAR(r.T_world_sensor.translation().x(), 0.4, 0.005);
 }
 
+// Far down a corridor each map neighbourhood of the floor holds one ring's arc: a line across
+// the corridor, whose second normal points along the axis. Bobbing moves the arcs along the
+// axis (here the scan's arcs lie 0.2 m further than the map's, both ways). The arc's points
+// face up, so the line counts as the floor it samples and says nothing along the axis; with
+// both of its normals (line_normal_support 0) it drags the estimate by the arcs' shift.
+TEST(Registration, ARingArcAcrossTheFloorIsTheFloorNotALine) {
+  test::LabelledCloud map_cloud = test::BoxRoom(-8, 8, -1.2, 1.2, -1.0, 1.8, false, 0.1);
+  test::LabelledCloud scan_world = map_cloud;
+  for (double radius = 10.0; radius <= 30.0; radius += 1.6) {
+    for (const double side : {-1.0, 1.0}) {
+      for (double y = -1.1; y <= 1.1 + 1e-9; y += 0.05) {
+        const double x = side * std::sqrt(radius * radius - y * y);
+        map_cloud.Add({x, y, -1.0}, PointClass::Edge, {0, 0, 1});
+        scan_world.Add({x + 0.2, y, -1.0}, PointClass::Edge, {0, 0, 1});
+      }
+    }
+  }
+  // Dense enough that the map keeps every arc point 5 cm apart (a map that has seen an arc
+  // from a few scans): a neighbourhood holds 30 of them and is judged.
+  VoxelHashMap map(0.5, 1000.0, 200);
+  map.Update(map_cloud.points, map_cloud.labels, map_cloud.normals, Eigen::Isometry3d::Identity());
+  const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.05, 0.0, 0.0, 0.0, 0.0);
+  const auto source = scan_world.Transformed(T_true.inverse());
+  const Eigen::Isometry3d guess = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const auto x_after = [&](const RegistrationConfig& config) {
+    const RegistrationResult r = RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3,
+                                              config, TwoCentimetrePrior());
+    EXPECT_TRUE(r.enough_correspondences);
+    EXPECT_TRUE(r.degeneracy.degenerate[0]);
+    EXPECT_GT(std::abs(r.degeneracy.eigenvectors.col(0).x()), 0.99);
+    EXPECT_GT(r.num_point, 300u);
+    EXPECT_NEAR(r.T_world_sensor.translation().y(), 0.05, 2e-3);
+    return r.T_world_sensor.translation().x();
+  };
+  EXPECT_NEAR(x_after(RegistrationConfig{}), 0.4, 0.005);
+  RegistrationConfig both_normals;
+  both_normals.line_normal_support = 0.0;
+  EXPECT_LT(x_after(both_normals), 0.4 - 0.02);
+}
+
 class KnownMotion : public ::testing::TestWithParam<RegistrationMode> {};
 
 TEST_P(KnownMotion, RecoversRigidMotionInAClosedRoom) {

@@ -49,6 +49,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
                    defaults.in_scan_angular_acceleration_sigma);
   EXPECT_EQ(loaded.registration.point_shape_min_points,
             defaults.registration.point_shape_min_points);
+  EXPECT_DOUBLE_EQ(loaded.registration.line_normal_support,
+                   defaults.registration.line_normal_support);
   EXPECT_DOUBLE_EQ(loaded.in_scan_spin_axis_acceleration_sigma,
                    defaults.in_scan_spin_axis_acceleration_sigma);
 }
@@ -56,7 +58,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
 TEST(OdometryConfigYaml, ValuesAreRead) {
   const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
       "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0,\n"
-      "               point_shape_min_points: 12}\n"
+      "               point_shape_min_points: 12, line_normal_support: 0.25}\n"
       "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
       "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
@@ -69,6 +71,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_FALSE(c.deskew);
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
   EXPECT_EQ(c.registration.point_shape_min_points, 12);
+  EXPECT_DOUBLE_EQ(c.registration.line_normal_support, 0.25);
   EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_angular_acceleration_sigma, 0.0);
@@ -101,6 +104,9 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf("motion_prior: {in_scan_spin_axis_acceleration_sigma: -0.1}")
                 .find("motion_prior.in_scan_spin_axis_acceleration_sigma: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {line_normal_support: 1.5}")
+                .find("registration.line_normal_support: must be in [0, 1]"),
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {point_shape_min_points: 2}")
                 .find("registration.point_shape_min_points: must be >= 3"),
