@@ -146,6 +146,16 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
   return best;
 }
 
+template <typename Visit>
+void VoxelHashMap::ForEachPointAround(const Eigen::Vector3d& point, Visit visit) const {
+  const Voxel voxel = PointToVoxel(point, voxel_size_);
+  for (const auto& offset : kNeighbourOffsets) {
+    const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
+    if (it == map_.end()) continue;
+    for (const MapPoint& p : it->second.points) visit(p);
+  }
+}
+
 VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d& point) const {
   const Voxel voxel = PointToVoxel(point, voxel_size_);
   // Centred on the voxel's centre, not on `point`: every point of a voxel gets the same
@@ -153,16 +163,12 @@ VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d&
   const Eigen::Vector3d centre = (voxel.cast<double>().array() + 0.5).matrix() * voxel_size_;
   Neighbourhood out;
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-  for (const auto& offset : kNeighbourOffsets) {
-    const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
-    if (it == map_.end()) continue;
-    for (const MapPoint& p : it->second.points) {
-      const Eigen::Vector3d d = p.position - centre;  // centred for precision far from origin
-      out.mean += d;
-      second.noalias() += d * d.transpose();
-      ++out.count;
-    }
-  }
+  ForEachPointAround(point, [&](const MapPoint& p) {
+    const Eigen::Vector3d d = p.position - centre;  // centred for precision far from origin
+    out.mean += d;
+    second.noalias() += d * d.transpose();
+    ++out.count;
+  });
   if (out.count == 0) return out;
   out.mean /= out.count;
   out.covariance = second / out.count - out.mean * out.mean.transpose();
@@ -171,19 +177,14 @@ VoxelHashMap::Neighbourhood VoxelHashMap::NeighbourhoodOf(const Eigen::Vector3d&
 }
 
 Eigen::Matrix3d VoxelHashMap::NormalScatterOf(const Eigen::Vector3d& point, int& count) const {
-  const Voxel voxel = PointToVoxel(point, voxel_size_);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   count = 0;
-  for (const auto& offset : kNeighbourOffsets) {
-    const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
-    if (it == map_.end()) continue;
-    for (const MapPoint& p : it->second.points) {
-      if (p.normal.squaredNorm() < 0.5f) continue;  // zero: no normal
-      const Eigen::Vector3d n = p.normal.cast<double>();
-      scatter.noalias() += n * n.transpose();
-      ++count;
-    }
-  }
+  ForEachPointAround(point, [&](const MapPoint& p) {
+    if (p.normal.squaredNorm() < 0.5f) return;  // zero: no normal
+    const Eigen::Vector3d n = p.normal.cast<double>();
+    scatter.noalias() += n * n.transpose();
+    ++count;
+  });
   if (count > 0) scatter /= count;
   return scatter;
 }

@@ -77,6 +77,10 @@ class VoxelHashMap {
     const MapPoint* ClassBegin(std::size_t c) const { return points.data() + begin[c]; }
     const MapPoint* ClassEnd(std::size_t c) const { return points.data() + begin[c + 1]; }
   };
+  // Calls visit(point) for every map point in the 27 voxels around the one holding `point`.
+  template <typename Visit>
+  void ForEachPointAround(const Eigen::Vector3d& point, Visit visit) const;
+
   double voxel_size_;
   double max_distance_;
   int max_points_per_voxel_;

@@ -205,23 +205,23 @@ void KeepFacedLineNormals(const VoxelHashMap& map, const Eigen::Vector3d& target
   if (faced1) shape.n[0] = shape.n[1];
 }
 
-LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, double flatness,
-                       int min_points, double line_normal_support) {
+LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target,
+                       const RegistrationConfig& config) {
   LocalShape shape;
   const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf(target);
-  if (hood.count < std::max(min_points, 3)) return shape;
+  if (hood.count < std::max(config.point_shape_min_points, 3)) return shape;
   shape.judged = true;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hood.covariance);
   const Eigen::Vector3d& lambda = eig.eigenvalues();  // ascending
   const double sum = lambda.sum();
   if (!(sum > 0.0)) return shape;
   shape.n = {eig.eigenvectors().col(0), eig.eigenvectors().col(1)};
-  if (lambda(1) / sum < flatness) {
+  if (lambda(1) / sum < config.point_flatness) {
     shape.planes = 2;
-  } else if (lambda(0) / sum < flatness) {
+  } else if (lambda(0) / sum < config.point_flatness) {
     shape.planes = 1;
   }
-  KeepFacedLineNormals(map, target, line_normal_support, shape);
+  KeepFacedLineNormals(map, target, config.line_normal_support, shape);
   return shape;
 }
 
@@ -230,10 +230,7 @@ LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target, d
 class ShapeCache {
  public:
   ShapeCache(const VoxelHashMap& map, const RegistrationConfig& config)
-      : map_(map),
-        flatness_(config.point_flatness),
-        min_points_(config.point_shape_min_points),
-        line_normal_support_(config.line_normal_support) {}
+      : map_(map), config_(config) {}
 
   // The shapes around the targets of `pairs`, in their order.
   std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
@@ -247,9 +244,7 @@ class ShapeCache {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, missing.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          computed[i] =
-                              ShapeAround(map_, Centre(missing[i]), flatness_, min_points_,
-                                          line_normal_support_);
+                          computed[i] = ShapeAround(map_, Centre(missing[i]), config_);
                         }
                       });
     for (std::size_t i = 0; i < missing.size(); ++i) shapes_[missing[i]] = computed[i];
@@ -263,9 +258,7 @@ class ShapeCache {
     return (v.cast<double>().array() + 0.5).matrix() * map_.voxel_size();
   }
   const VoxelHashMap& map_;
-  double flatness_;
-  int min_points_;
-  double line_normal_support_;
+  const RegistrationConfig& config_;
   // Node-based: pointers handed out stay valid while later lookups insert.
   std::unordered_map<Voxel, LocalShape, VoxelHash> shapes_;
 };
