@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <stack>
 
 #include "core/geometry/se3.hpp"
@@ -201,6 +202,79 @@ TEST(SvgPlot, WritesWellFormedTopView) {
     EXPECT_NE(svg.find(text), std::string::npos) << text;
   }
   EXPECT_FALSE(TagsBalanced("<svg><g></svg></g>"));  // the checker itself can fail
+}
+
+}  // namespace
+}  // namespace dammloam::eval
+
+namespace dammloam::eval {
+namespace {
+
+std::vector<Eigen::Vector3d> GaussianFrames(std::size_t n, const Eigen::Vector3d& sigma,
+                                            std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::Vector3d> frames(n);
+  for (Eigen::Vector3d& e : frames) {
+    e = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).cwiseProduct(sigma);
+  }
+  return frames;
+}
+
+// Isotropic 3D Gaussian frame errors: the norm's median is 1.54 sigma and the largest of 850
+// about 4.2 sigma, so the worst frame is ~2.7x the median from noise alone.
+TEST(FrameTail, GaussianNoiseAloneSetsTheWorstFrameNearThreeMedians) {
+  const FrameTail tail = AnalyseFrameTail(GaussianFrames(850, Eigen::Vector3d::Constant(0.005), 7));
+  EXPECT_EQ(tail.frames, 850u);
+  EXPECT_GT(tail.gaussian_median, 2.4);
+  EXPECT_LT(tail.gaussian_median, 3.1);
+  EXPECT_GT(tail.gaussian_p95, tail.gaussian_median);
+  // The run is a draw of the same noise: inside the band, not flagged.
+  EXPECT_LT(tail.worst_over_median, tail.gaussian_p95);
+  EXPECT_GT(tail.gaussian_share_at_least, 0.05);
+}
+
+// One axis dominating (a wheeled robot's lateral shake) lowers the median frame more than the
+// worst, and the noise alone passes 3x.
+TEST(FrameTail, OneDominantAxisRaisesTheNoiseRatio) {
+  const FrameTail isotropic =
+      AnalyseFrameTail(GaussianFrames(1700, Eigen::Vector3d::Constant(0.005), 3));
+  const FrameTail lateral =
+      AnalyseFrameTail(GaussianFrames(1700, Eigen::Vector3d(0.001, 0.006, 0.001), 3));
+  EXPECT_GT(lateral.gaussian_median, 3.0);
+  EXPECT_GT(lateral.gaussian_median, isotropic.gaussian_median + 0.4);
+}
+
+TEST(FrameTail, ASingleWrongFrameStandsOutOfTheNoise) {
+  std::vector<Eigen::Vector3d> frames = GaussianFrames(850, Eigen::Vector3d::Constant(0.005), 7);
+  frames[400] = Eigen::Vector3d(0.0, 0.08, 0.0);  // 0.08 m against ~8 mm frames
+  const FrameTail tail = AnalyseFrameTail(frames);
+  EXPECT_GT(tail.worst_over_median, 2.0 * tail.gaussian_p95);
+  EXPECT_EQ(tail.gaussian_share_at_least, 0.0);
+}
+
+TEST(FrameTail, TooFewOrMotionlessFramesAreNotJudged) {
+  EXPECT_EQ(AnalyseFrameTail({Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0.02, 0, 0)}).frames, 0u);
+  EXPECT_EQ(AnalyseFrameTail(std::vector<Eigen::Vector3d>(10, Eigen::Vector3d::Zero())).frames, 0u);
+  // Error along one axis only: the covariance is singular, the analysis still runs.
+  std::vector<Eigen::Vector3d> planar;
+  for (int i = 0; i < 100; ++i) planar.emplace_back(0.001 * (i % 7) + 0.001, 0.0, 0.0);
+  EXPECT_EQ(AnalyseFrameTail(planar).frames, 100u);
+  EXPECT_GT(AnalyseFrameTail(planar).gaussian_median, 1.0);
+}
+
+TEST(FrameTail, EvaluateReportsItForTheRpe) {
+  const auto gt = Helix();
+  std::vector<StampedPose> est = gt;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 0.01);
+  for (auto& pose : est) pose.T.translation() += Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+  const TrajectoryMetrics m = EvaluateTrajectories(gt, est);
+  EXPECT_EQ(m.rpe_tail.frames, m.rpe.count);
+  EXPECT_NEAR(m.rpe_tail.worst_over_median, m.rpe.max / m.rpe.median, 1e-12);
+  const nlohmann::json j = nlohmann::json::parse(FormatJson(m));
+  EXPECT_NEAR(j["rpe_tail"]["worst_over_median"].get<double>(), m.rpe_tail.worst_over_median, 1e-12);
+  EXPECT_NE(FormatTable(m).find("worst frame:"), std::string::npos);
 }
 
 }  // namespace

@@ -504,6 +504,8 @@ nlohmann::json ToJson(const SeedResult& s) {
   j["median_frame_m"] = s.errors.median_frame_m;
   j["worst_frame_m"] = s.errors.worst_frame_m;
   j["worst_frame_index"] = s.errors.worst_frame_index;
+  j["noise_worst_to_median_frame"] = s.errors.noise_worst_ratio;
+  j["noise_worst_to_median_frame_p95"] = s.errors.noise_worst_ratio_p95;
   j["pairs"] = s.errors.pairs;
   j["registered"] = s.registered;
   j["degenerate"] = s.degenerate;

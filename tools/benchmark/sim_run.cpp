@@ -178,6 +178,8 @@ TrajectoryErrors EvaluateEstimate(const std::vector<io::StampedPose>& ground_tru
   errors.rpe_rmse = metrics.rpe.rmse;
   errors.drift_percent = metrics.drift_percent;
   errors.median_frame_m = metrics.rpe.median;
+  errors.noise_worst_ratio = metrics.rpe_tail.gaussian_median;
+  errors.noise_worst_ratio_p95 = metrics.rpe_tail.gaussian_p95;
   errors.pairs = metrics.pairs;
   const eval::MatchedTrajectories matched =
       eval::AssociateByTime(ground_truth, estimate, options.max_time_diff);

@@ -113,6 +113,10 @@ struct TrajectoryErrors {
   double median_frame_m = 0.0;
   double worst_frame_m = 0.0;
   std::size_t worst_frame_index = 0;  // the later scan of the worst pair
+  // Worst over median frame for Gaussian frame errors of this run's covariance (median and 95th
+  // percentile over draws, eval::AnalyseFrameTail): what the frame noise alone gives.
+  double noise_worst_ratio = 0.0;
+  double noise_worst_ratio_p95 = 0.0;
   std::size_t pairs = 0;
   std::vector<double> frame_errors;   // per consecutive matched pair
 };

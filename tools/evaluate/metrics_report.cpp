@@ -35,6 +35,14 @@ std::string FormatTable(const TrajectoryMetrics& m) {
   out += line;
   out += StatsRow("APE", m.ape);
   out += StatsRow("RPE", m.rpe);
+  if (m.rpe_tail.frames > 0) {
+    std::snprintf(line, sizeof(line),
+                  "worst frame: %.2fx the median frame; Gaussian frames of this covariance: %.2fx "
+                  "(95%%: %.2fx, %.0f%% of draws at least as far)\n",
+                  m.rpe_tail.worst_over_median, m.rpe_tail.gaussian_median, m.rpe_tail.gaussian_p95,
+                  100.0 * m.rpe_tail.gaussian_share_at_least);
+    out += line;
+  }
   std::snprintf(line, sizeof(line), "path length: %.3f m, end drift: %.4f m (%.3f %%)\n",
                 m.path_length_m, m.end_drift_m, m.drift_percent);
   out += line;
@@ -52,6 +60,12 @@ std::string FormatJson(const TrajectoryMetrics& m) {
   const json root = {
       {"ape", StatsJson(m.ape)},
       {"rpe", StatsJson(m.rpe)},
+      {"rpe_tail",
+       {{"frames", m.rpe_tail.frames},
+        {"worst_over_median", m.rpe_tail.worst_over_median},
+        {"gaussian_median", m.rpe_tail.gaussian_median},
+        {"gaussian_p95", m.rpe_tail.gaussian_p95},
+        {"gaussian_share_at_least", m.rpe_tail.gaussian_share_at_least}}},
       {"drift_percent", m.drift_percent},
       {"end_drift_m", m.end_drift_m},
       {"path_length_m", m.path_length_m},

@@ -56,13 +56,19 @@ std::vector<double> ApeTranslationErrors(const MatchedTrajectories& matched,
   return errors;
 }
 
-std::vector<double> RpeTranslationErrors(const MatchedTrajectories& matched) {
-  std::vector<double> errors;
+std::vector<Eigen::Vector3d> RpeTranslationVectors(const MatchedTrajectories& matched) {
+  std::vector<Eigen::Vector3d> errors;
   for (std::size_t i = 0; i + 1 < matched.gt.size(); ++i) {
     const Eigen::Isometry3d gt_delta = matched.gt[i].T.inverse() * matched.gt[i + 1].T;
     const Eigen::Isometry3d est_delta = matched.est[i].T.inverse() * matched.est[i + 1].T;
-    errors.push_back((gt_delta.inverse() * est_delta).translation().norm());
+    errors.push_back((gt_delta.inverse() * est_delta).translation());
   }
+  return errors;
+}
+
+std::vector<double> RpeTranslationErrors(const MatchedTrajectories& matched) {
+  std::vector<double> errors;
+  for (const Eigen::Vector3d& e : RpeTranslationVectors(matched)) errors.push_back(e.norm());
   return errors;
 }
 
@@ -83,7 +89,11 @@ TrajectoryMetrics EvaluateTrajectories(const std::vector<io::StampedPose>& gt,
   metrics.alignment = AlignUmeyama(Positions(matched.est), metrics.gt_positions);
   metrics.est_positions_aligned = Positions(matched.est, metrics.alignment);
   metrics.ape = ComputeStats(ApeTranslationErrors(matched, metrics.alignment));
-  metrics.rpe = ComputeStats(RpeTranslationErrors(matched));
+  const std::vector<Eigen::Vector3d> frame_errors = RpeTranslationVectors(matched);
+  std::vector<double> frame_norms;
+  for (const Eigen::Vector3d& e : frame_errors) frame_norms.push_back(e.norm());
+  metrics.rpe = ComputeStats(frame_norms);
+  metrics.rpe_tail = AnalyseFrameTail(frame_errors);
   metrics.path_length_m = PathLength(metrics.gt_positions);
   metrics.end_drift_m = EndDrift(matched);
   metrics.drift_percent = metrics.path_length_m > 0.0

@@ -6,6 +6,7 @@
 #include "io/tum.hpp"
 #include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/error_stats.hpp"
+#include "tools/evaluate/frame_tail.hpp"
 
 // Trajectory accuracy as evo reports it: APE after SE(3) Umeyama alignment
 // (`evo_ape tum gt est -a`), RPE over consecutive frames (`evo_rpe tum gt est`), plus the end
@@ -19,6 +20,7 @@ struct EvaluateOptions {
 struct TrajectoryMetrics {
   ErrorStats ape;  // translation, metres, after alignment
   ErrorStats rpe;  // translation, metres, delta 1 frame, not aligned
+  FrameTail rpe_tail;  // the worst 1-frame error over the median, against Gaussian frame noise
   // T_gt_est: maps estimated poses into the ground-truth frame (Umeyama, no scale).
   Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();
   double path_length_m = 0.0;  // of the matched ground-truth poses
@@ -40,7 +42,9 @@ Eigen::Isometry3d AlignUmeyama(const std::vector<Eigen::Vector3d>& est,
 std::vector<double> ApeTranslationErrors(const MatchedTrajectories& matched,
                                          const Eigen::Isometry3d& T_gt_est);
 
-// |trans((Q_i^-1 Q_i+1)^-1 (P_i^-1 P_i+1))| with Q = gt, P = est, per consecutive pair.
+// trans((Q_i^-1 Q_i+1)^-1 (P_i^-1 P_i+1)) with Q = gt, P = est, per consecutive pair.
+std::vector<Eigen::Vector3d> RpeTranslationVectors(const MatchedTrajectories& matched);
+// Their norms.
 std::vector<double> RpeTranslationErrors(const MatchedTrajectories& matched);
 
 // Throws std::invalid_argument when fewer than 2 poses can be paired.
