@@ -139,6 +139,21 @@ TEST(Scene, GridMatchesBruteForceRepetitive) {
   ExpectGridMatchesBruteForce(SceneKind::Repetitive, {7, -0.2, 1.2});
 }
 
+// The plain corridors' door recesses are as deep as asked: a ray from the axis into a door at
+// the straight corridor's x = 13.7 (left wall, y = +1.2) ends on the door, 1.2 m + depth away;
+// beside it, on the wall.
+TEST(Scene, RecessDepthSetsHowFarTheDoorSits) {
+  for (const double depth : {kShallowRecess, 0.3}) {
+    const World world = BuildWorld(SceneKind::StraightCorridor, 0.0, 60.0, depth);
+    const auto door = world.scene.Cast(MakeRay({13.7, 0.0, 1.0}, {0.0, 1.0, 0.0}), 1e-6, 10.0);
+    const auto wall = world.scene.Cast(MakeRay({11.0, 0.0, 1.0}, {0.0, 1.0, 0.0}), 1e-6, 10.0);
+    ASSERT_TRUE(door.has_value());
+    ASSERT_TRUE(wall.has_value());
+    EXPECT_NEAR(door->t, 1.2 + depth, 1e-9) << depth;
+    EXPECT_NEAR(wall->t, 1.2, 1e-9) << depth;
+  }
+}
+
 TEST(Scene, NamesRoundTrip) {
   for (const std::string& name : SceneNames()) {
     const auto kind = ParseSceneKind(name);

@@ -7,6 +7,7 @@
 #include <limits>
 #include <nanoflann.hpp>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "tools/simulate/simulator.hpp"
@@ -118,6 +119,15 @@ TEST(Simulator, ThreadCountDoesNotChangeTheScan) {
   for (std::size_t i = 0; i < sa.size(); ++i) {
     ASSERT_EQ(sa.points[i], sb.points[i]);
     ASSERT_EQ(sa.intensities[i], sb.intensities[i]);
+  }
+}
+
+TEST(Simulator, RejectsARecessWithoutDepth) {
+  for (const double depth : {0.0, -0.05, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    SimOptions options = Options(0.0);
+    options.recess_depth = depth;
+    EXPECT_THROW(Simulator(SceneKind::StraightCorridor, SmallOs1(), options), std::invalid_argument)
+        << depth;
   }
 }
 

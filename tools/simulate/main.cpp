@@ -143,10 +143,11 @@ int Run(const Args& a) {
           ? std::string(sim::MotionName(options.motion))
           : fmt::format("{}", options.speed > 0 ? options.speed : sim::DefaultSpeed(simulator.kind()));
   spdlog::info(
-      "simulate: scene={}{} sensor={} ({}x{}) scans={} seed={} noise={} m speed={} m/s threads={} "
+      "simulate: scene={}{} sensor={} ({}x{}) scans={} seed={} noise={} m speed={} m/s "
+      "recess depth={} m threads={} "
       "range={} points/scan median={:.0f} sim median {:.2f} ms/scan, start-end distance {:.2f} m -> {}",
       sim::SceneName(scene), a.preset.empty() ? "" : " preset=" + a.preset, spec.name, spec.rings(),
-      spec.columns, scans, options.seed, options.noise_sigma, speed,
+      spec.columns, scans, options.seed, options.noise_sigma, speed, options.recess_depth,
       options.threads == 0 ? std::string("auto") : std::to_string(options.threads),
       options.full_range_reflectivity > 0 ? "realistic" : "ideal", Median(points), Median(sim_ms),
       travelled.norm(), a.out);
@@ -195,6 +196,11 @@ int main(int argc, char** argv) {
                  "ideal: every hit up to max range (default for constant motion); realistic: dark "
                  "or grazing surfaces fade earlier (default otherwise)")
       ->check(CLI::IsMember({"ideal", "realistic"}));
+  app.add_option("--recess-depth", a.sim.recess_depth,
+                 "Depth of the door recesses of long-, endless- and straight-corridor, metres "
+                 "(the presets' 0.05: plain office doors)")
+      ->check(CLI::Range(0.001, sim::kMaxRecessDepth))
+      ->capture_default_str();
   app.add_option("--dropout", a.sim.dropout, "Probability that a return is lost")
       ->check(CLI::Range(0.0, 0.99))->capture_default_str();
   app.add_option("--speed", a.sim.speed,

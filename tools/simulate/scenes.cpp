@@ -229,20 +229,19 @@ World Outdoor(double speed) {
 
 // --- Fixed-size scenes for the realistic carriers -------------------------------------------
 
-constexpr double kShallowRecess = 0.05;  // door recesses of plain office corridors
 constexpr double kArriveMargin = 2.0;    // s standing at the end of a planned walk
 
 double ArriveTime(double duration) { return std::max(duration - kArriveMargin, 0.0); }
 
 // A 2.4 x 2.8 m corridor from x0 to x1 with shallow door recesses and both end walls.
 void AddPlainCorridor(Scene& scene, double x0, double x1, const std::vector<double>& left,
-                      const std::vector<double>& right) {
+                      const std::vector<double>& right, double recess_depth) {
   CorridorShape c;
   c.x0 = x0;
   c.x1 = x1;
-  AddFloorAndCeiling(scene, c, kShallowRecess);
-  AddSideWall(scene, c, +1, left, kShallowRecess);
-  AddSideWall(scene, c, -1, right, kShallowRecess);
+  AddFloorAndCeiling(scene, c, recess_depth);
+  AddSideWall(scene, c, +1, left, recess_depth);
+  AddSideWall(scene, c, -1, right, recess_depth);
   scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
   scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x1, 0.0, c.height, kWall));
 }
@@ -252,27 +251,27 @@ Path ThereAndBack(double x_start, double out, double back, double turn_radius) {
   return Path({Eigen::Vector2d(x_start, -turn_radius), 0.0}).Line(out).Arc(turn_radius, kPi).Line(back);
 }
 
-World LongCorridor(double speed, double duration) {
+World LongCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 130.0, {17.3, 58.6, 101.2}, {36.9, 83.4});
+  AddPlainCorridor(w.scene, 0.0, 130.0, {17.3, 58.6, 101.2}, {36.9, 83.4}, recess_depth);
   w.motion.path = ThereAndBack(5.0, 88.0, 87.0, 0.5);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
   return w;
 }
 
-World EndlessCorridor(double speed, double duration) {
+World EndlessCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 460.0, {171.0, 262.8}, {224.5, 298.1});
+  AddPlainCorridor(w.scene, 0.0, 460.0, {171.0, 262.8}, {224.5, 298.1}, recess_depth);
   w.motion.path = ThereAndBack(130.0, 200.0, 200.0, 0.5);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
   return w;
 }
 
-World StraightCorridor(double speed, double duration) {
+World StraightCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 60.0, {13.7, 44.6}, {29.2});
+  AddPlainCorridor(w.scene, 0.0, 60.0, {13.7, 44.6}, {29.2}, recess_depth);
   w.motion.path = Path({Eigen::Vector2d(2.0, -0.2), 0.0}).Line(56.0);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
@@ -404,7 +403,7 @@ double DefaultSpeed(SceneKind kind) {
   return kind == SceneKind::Outdoor || kind == SceneKind::Campus ? 1.5 : 1.0;
 }
 
-World BuildWorld(SceneKind kind, double speed, double duration) {
+World BuildWorld(SceneKind kind, double speed, double duration, double recess_depth) {
   if (!(speed > 0.0)) speed = DefaultSpeed(kind);
   duration = std::max(duration, 0.0);
   World w;
@@ -414,10 +413,10 @@ World BuildWorld(SceneKind kind, double speed, double duration) {
     case SceneKind::Outdoor: w = Outdoor(speed); break;
     case SceneKind::Repetitive: w = Repetitive(speed, duration); break;
     case SceneKind::CorridorReturn: w = Corridor(speed, duration, true); break;
-    case SceneKind::LongCorridor: w = LongCorridor(speed, duration); break;
+    case SceneKind::LongCorridor: w = LongCorridor(speed, duration, recess_depth); break;
     case SceneKind::Tunnel: w = Tunnel(speed, duration); break;
-    case SceneKind::EndlessCorridor: w = EndlessCorridor(speed, duration); break;
-    case SceneKind::StraightCorridor: w = StraightCorridor(speed, duration); break;
+    case SceneKind::EndlessCorridor: w = EndlessCorridor(speed, duration, recess_depth); break;
+    case SceneKind::StraightCorridor: w = StraightCorridor(speed, duration, recess_depth); break;
     case SceneKind::Campus: w = Campus(speed, duration); break;
   }
   w.scene.Build();

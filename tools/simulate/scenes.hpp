@@ -51,6 +51,10 @@ struct World {
 // `speed` in m/s (<= 0: the scene's default); `duration` in seconds sizes the corridor scenes so
 // the whole drive stays inside them. The fixed-size scenes plan their walk to end (and stand
 // still) 2 s before `duration` (MotionSpec::arrive_time; used by the non-constant carriers).
-World BuildWorld(SceneKind kind, double speed, double duration);
+// Door recesses of the plain office corridors (long-, endless- and straight-corridor).
+inline constexpr double kShallowRecess = 0.05;  // metres
+inline constexpr double kMaxRecessDepth = 1.0;
+World BuildWorld(SceneKind kind, double speed, double duration,
+                 double recess_depth = kShallowRecess);
 
 }  // namespace dammloam::sim

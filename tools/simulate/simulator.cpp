@@ -79,15 +79,22 @@ Simulator::Simulator(const Preset& preset, SensorSpec sensor, std::uint64_t seed
 std::vector<std::string> Simulator::SceneNames() { return sim::SceneNames(); }
 
 World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOptions& options) {
+  // Checked before the scene is built from it: a recess needs jambs.
+  if (!(options.recess_depth > 0.0 && options.recess_depth <= kMaxRecessDepth)) {
+    throw std::invalid_argument("recess depth must be in (0, " + std::to_string(kMaxRecessDepth) +
+                                "] m, got " + std::to_string(options.recess_depth));
+  }
   const double duration = std::max(options.num_scans, 1) * sensor.scan_period;
-  if (options.motion == MotionKind::Constant) return BuildWorld(kind, options.speed, duration);
+  if (options.motion == MotionKind::Constant) {
+    return BuildWorld(kind, options.speed, duration, options.recess_depth);
+  }
   MotionSpec carrier;
   carrier.kind = options.motion;
   const CarrierParams params = CarrierParamsOf(carrier);
   // --speed rescales the carrier's speeds so that the middle of its range is `speed`.
   const double scale = options.speed > 0.0 ? 2.0 * options.speed / (params.speed_min + params.speed_max) : 1.0;
   // Corridor scenes are sized for the fastest walk; a slower one stops at the path's end.
-  World w = BuildWorld(kind, scale * params.speed_max, duration);
+  World w = BuildWorld(kind, scale * params.speed_max, duration, options.recess_depth);
   w.motion.kind = options.motion;
   w.motion.seed = options.seed;
   w.motion.duration = duration;

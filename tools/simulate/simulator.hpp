@@ -29,6 +29,9 @@ struct SimOptions {
   // cos(incidence) / full_range_reflectivity) (Lambertian target, 1/r^2), so dark walls seen
   // at grazing angles fade long before max_range. 0: every hit up to max_range (ideal).
   double full_range_reflectivity = 0.0;
+  // Depth of the door recesses of the plain corridors (long-, endless-, straight-corridor),
+  // metres, > 0: how much the only features along their axis stand out of the walls.
+  double recess_depth = kShallowRecess;
 };
 
 // The full-range reflectivity of the realistic range model: white targets (90 %) at normal
