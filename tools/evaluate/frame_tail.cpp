@@ -1,5 +1,7 @@
 #include "tools/evaluate/frame_tail.hpp"
 
+#include "tools/evaluate/error_stats.hpp"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <random>
@@ -7,14 +9,10 @@
 namespace dammloam::eval {
 namespace {
 
-// Worst over median of the norms; 0 when the median is 0.
-double WorstOverMedian(std::vector<double> norms) {
-  const double worst = *std::max_element(norms.begin(), norms.end());
-  const auto middle = norms.begin() + static_cast<std::ptrdiff_t>(norms.size() / 2);
-  std::nth_element(norms.begin(), middle, norms.end());
-  double median = *middle;
-  if (norms.size() % 2 == 0) median = 0.5 * (median + *std::max_element(norms.begin(), middle));
-  return median > 0.0 ? worst / median : 0.0;
+// Worst over median of the norms, as the RPE statistics define both; 0 when the median is 0.
+double WorstOverMedian(const std::vector<double>& norms) {
+  const ErrorStats stats = ComputeStats(norms);
+  return stats.median > 0.0 ? stats.max / stats.median : 0.0;
 }
 
 double Quantile(std::vector<double> values, double q) {

@@ -31,6 +31,13 @@ double EndDrift(const MatchedTrajectories& matched) {
   return (matched.gt.back().T.translation() - est_end).norm();
 }
 
+std::vector<double> Norms(const std::vector<Eigen::Vector3d>& vectors) {
+  std::vector<double> norms;
+  norms.reserve(vectors.size());
+  for (const Eigen::Vector3d& v : vectors) norms.push_back(v.norm());
+  return norms;
+}
+
 }  // namespace
 
 Eigen::Isometry3d AlignUmeyama(const std::vector<Eigen::Vector3d>& est,
@@ -67,9 +74,7 @@ std::vector<Eigen::Vector3d> RpeTranslationVectors(const MatchedTrajectories& ma
 }
 
 std::vector<double> RpeTranslationErrors(const MatchedTrajectories& matched) {
-  std::vector<double> errors;
-  for (const Eigen::Vector3d& e : RpeTranslationVectors(matched)) errors.push_back(e.norm());
-  return errors;
+  return Norms(RpeTranslationVectors(matched));
 }
 
 TrajectoryMetrics EvaluateTrajectories(const std::vector<io::StampedPose>& gt,
@@ -90,9 +95,7 @@ TrajectoryMetrics EvaluateTrajectories(const std::vector<io::StampedPose>& gt,
   metrics.est_positions_aligned = Positions(matched.est, metrics.alignment);
   metrics.ape = ComputeStats(ApeTranslationErrors(matched, metrics.alignment));
   const std::vector<Eigen::Vector3d> frame_errors = RpeTranslationVectors(matched);
-  std::vector<double> frame_norms;
-  for (const Eigen::Vector3d& e : frame_errors) frame_norms.push_back(e.norm());
-  metrics.rpe = ComputeStats(frame_norms);
+  metrics.rpe = ComputeStats(Norms(frame_errors));
   metrics.rpe_tail = AnalyseFrameTail(frame_errors);
   metrics.path_length_m = PathLength(metrics.gt_positions);
   metrics.end_drift_m = EndDrift(matched);
