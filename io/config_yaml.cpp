@@ -91,6 +91,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("residual_sigma", c.residual_sigma);
   s.Get("correspondence_reuse_distance", c.correspondence_reuse_distance);
   s.Get("max_step_extrapolation", c.max_step_extrapolation);
+  s.Get("coarse_stride", c.coarse_stride);
   s.Get("min_correspondences", c.min_correspondences);
   s.Get("covariance_regularisation", c.covariance_regularisation);
   s.RejectUnknownKeys();
@@ -202,6 +203,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
           "must be >= 0 (0 = search on every iteration)");
   Require(r.max_step_extrapolation >= 1.0 && r.max_step_extrapolation <= 10.0,
           "registration.max_step_extrapolation", "must be in [1, 10] (1 = off)");
+  Require(r.coarse_stride >= 1 && r.coarse_stride <= 64, "registration.coarse_stride",
+          "must be in [1, 64] (1 = off)");
   Require(r.convergence_criterion > 0.0, "registration.convergence_criterion", "must be > 0");
   Require(r.initial_threshold > 0.0, "registration.initial_threshold", "must be > 0");
   Require(r.min_motion_threshold >= 0.0, "registration.min_motion_threshold", "must be >= 0");

@@ -29,12 +29,14 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
                                       RegistrationMode mode, bool unknown_defers_to_map,
-                                      const std::vector<float>& times) {
+                                      const std::vector<float>& times,
+                                      const SourceSubset& subset) {
   const std::size_t n = source_world.size();
   std::vector<const MapPoint*> match(n, nullptr);
   std::vector<PairKind> kind(n, PairKind::kNone);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (!subset.Contains(i)) continue;
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
       const bool any_class =
           !ClassWise(mode) || (unknown_defers_to_map && label == PointClass::Unknown);

@@ -17,6 +17,19 @@ struct Correspondence {
   double time = 0.0;  // the source point's firing time relative to the registered frame's, s
 };
 
+// The source points a search pairs: all of them (stride 1); with stride k > 1 every k-th
+// (0, k, 2k, ...), or with `complement` all the others.
+struct SourceSubset {
+  std::size_t stride = 1;
+  bool complement = false;
+  bool Contains(std::size_t i) const { return stride <= 1 || (i % stride == 0) != complement; }
+  std::size_t CountOf(std::size_t n) const {
+    if (stride <= 1) return n;
+    const std::size_t every_kth = (n + stride - 1) / stride;
+    return complement ? n - every_kth : every_kth;
+  }
+};
+
 struct CorrespondenceSet {
   std::vector<Correspondence> planar;  // point-to-plane residuals
   std::vector<Correspondence> point;   // point-to-point residuals
@@ -28,11 +41,12 @@ struct CorrespondenceSet {
 // wall become point-to-plane, edge and unknown point-to-point. With unknown_defers_to_map an
 // unknown source point matches any class and is point-to-plane on a planar map point (see
 // RegistrationConfig). kPointToPoint ignores classes and normals; kPlaneOnly ignores classes
-// and makes every pair with a map normal planar.
+// and makes every pair with a map normal planar. `subset` says which source points are paired.
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
                                       RegistrationMode mode, bool unknown_defers_to_map = true,
-                                      const std::vector<float>& times = {});
+                                      const std::vector<float>& times = {},
+                                      const SourceSubset& subset = SourceSubset{});
 
 }  // namespace dammloam

@@ -567,14 +567,48 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   CorrespondenceSet pairs;
   double moved_since_search = std::numeric_limits<double>::infinity();
   Vector6d previous_dx = Vector6d::Zero();
+  // Coarse to fine: the first searches pair every coarse_stride-th source point only. The
+  // prediction is off by centimetres, so those first steps need the direction, not every
+  // point; once a coarse step settles, every point is paired for the remaining (short) way.
+  // The settled coarse pairs are as fresh as the reuse rule asks, so that first full search
+  // looks up only the other points.
+  const std::size_t coarse_stride = static_cast<std::size_t>(std::max(1, config.coarse_stride));
+  bool coarse = coarse_stride > 1;
+  CorrespondenceSet settled_coarse_pairs;
+  // How far the settled pairs' sources moved since they were found; infinite: none settled.
+  double settled_moved = std::numeric_limits<double>::infinity();
+  const auto end_coarse_phase = [&](bool settled) {
+    coarse = false;
+    if (settled) {
+      settled_coarse_pairs = std::move(pairs);
+      settled_moved = moved_since_search;
+    }
+    moved_since_search = std::numeric_limits<double>::infinity();  // search every point next
+    previous_dx.setZero();  // the next step corrects the subset's optimum: not a continuation
+  };
   for (int iteration = 1; iteration <= config.max_iterations; ++iteration) {
     const bool reuse_pairs = moved_since_search < config.correspondence_reuse_distance;
     if (!reuse_pairs) {
+      const bool add_settled = !coarse && std::isfinite(settled_moved);
+      const SourceSubset subset{coarse || add_settled ? coarse_stride : 1, add_settled};
       pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
                                   config.mode, config.unknown_defers_to_map,
-                                  K > 0 ? source_times : std::vector<float>{});
+                                  K > 0 ? source_times : std::vector<float>{}, subset);
       moved_since_search = 0.0;
       ++result.searches;
+      result.searched_points += subset.CountOf(source_world.size());
+      if (add_settled) {
+        for (auto [to, from] : {std::pair{&pairs.planar, &settled_coarse_pairs.planar},
+                                std::pair{&pairs.point, &settled_coarse_pairs.point}}) {
+          to->insert(to->end(), from->begin(), from->end());
+        }
+        moved_since_search = settled_moved;
+        settled_moved = std::numeric_limits<double>::infinity();
+      }
+    }
+    if (coarse && pairs.size() < static_cast<std::size_t>(config.min_correspondences)) {
+      end_coarse_phase(false);
+      continue;
     }
     if (pairs.size() < static_cast<std::size_t>(config.min_correspondences)) break;
     result.enough_correspondences = true;
@@ -588,6 +622,10 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
     const InScanBasis basis = InScanBasisFor(result.T_world_sensor.translation(), mean_time_sq,
                                              weak_aware ? &planar_report : nullptr);
     LinearSystem system;
+    // A coarse pair stands for coarse_stride points: the data weigh against the prior as if all
+    // had been paired.
+    const double pair_information =
+        information_scale * (coarse ? static_cast<double>(coarse_stride) : 1.0);
     std::optional<InScanElimination<K>> in_scan;
     if constexpr (K > 0) {
       const NormalEquations<6 + K> full = DataSystem<6 + K>(
@@ -596,7 +634,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
       system.H = full.H.template topLeftCorner<6, 6>();
       system.b = full.b.template head<6>();
       system.chi2 = full.chi2;
-      in_scan.emplace(full, information_scale, motion,
+      in_scan.emplace(full, pair_information, motion,
                       InScanInformation<K>(prior, planar_report,
                                            result.T_world_sensor.linear().col(2)));
     } else {
@@ -610,8 +648,8 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
     Vector6d b = system.b;
     if (fused) {
       // Information in absolute units, so that it weighs against the prior's.
-      H *= information_scale;
-      b *= information_scale;
+      H *= pair_information;
+      b *= pair_information;
       if (in_scan) in_scan->Eliminate(H, b);
       result.data_information = H;
       AddMotionPrior(result.T_world_sensor, initial_guess, prior, H, b);
@@ -652,8 +690,16 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
                                                            3 * pairs.point.size()) - 6.0);
       result.covariance = (system.chi2 / dof) * H.inverse();
     }
-    if (dx.norm() < config.convergence_criterion &&
-        InScanStepLength<K>(motion_dx, max_time) < config.convergence_criterion) {
+    const bool converged = dx.norm() < config.convergence_criterion &&
+                           InScanStepLength<K>(motion_dx, max_time) < config.convergence_criterion;
+    if (coarse) {
+      // Settled: the next iteration would keep these pairs, or the subset has converged.
+      if (converged || moved_since_search < config.correspondence_reuse_distance) {
+        end_coarse_phase(moved_since_search < config.correspondence_reuse_distance);
+      }
+      continue;
+    }
+    if (converged) {
       result.converged = true;
       break;
     }

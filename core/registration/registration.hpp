@@ -21,6 +21,7 @@ struct RegistrationResult {
   std::uint32_t num_point = 0;
   int iterations = 0;
   int searches = 0;  // correspondence searches: iterations minus those that reused the pairs
+  std::size_t searched_points = 0;  // source points looked up in the map, over all searches
   bool converged = false;
   bool enough_correspondences = false;  // false: the pose is the initial guess, untouched
   // Full mode: the scan's own information on the pose (without the prior), absolute units.

@@ -115,6 +115,38 @@ TEST(Correspondences, ClassWiseMatchesOnlyTheSameClass) {
   EXPECT_TRUE(FindCorrespondences(source, labels, map, 0.01, RegistrationMode::kFull).size() == 0);
 }
 
+// The coarse phase of a registration pairs only every k-th source point, in source order; the
+// first full search after it pairs the others.
+TEST(Correspondences, StridePairsEveryKthSourcePoint) {
+  test::LabelledCloud map_cloud;
+  std::vector<Eigen::Vector3d> source;
+  std::vector<PointClass> labels;
+  for (int i = 0; i < 10; ++i) {
+    map_cloud.Add({0.6 * i, 0.0, 0.0}, PointClass::Ground, {0, 0, 1});
+    source.emplace_back(0.6 * i, 0.0, 0.02);
+    labels.push_back(PointClass::Ground);
+  }
+  const VoxelHashMap map = MapOf(map_cloud);
+  ASSERT_EQ(FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull).size(), 10u);
+  const SourceSubset every_third{3, false};
+  const CorrespondenceSet strided =
+      FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, true, {}, every_third);
+  ASSERT_EQ(strided.planar.size(), 4u);  // points 0, 3, 6, 9
+  EXPECT_EQ(every_third.CountOf(source.size()), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(strided.planar[k].source.x(), 0.6 * static_cast<double>(3 * k));
+    EXPECT_DOUBLE_EQ(strided.planar[k].target.x(), strided.planar[k].source.x());
+  }
+  const SourceSubset the_others{3, true};
+  const CorrespondenceSet others =
+      FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, true, {}, the_others);
+  ASSERT_EQ(others.planar.size(), 6u);  // points 1, 2, 4, 5, 7, 8
+  EXPECT_EQ(the_others.CountOf(source.size()), 6u);
+  for (const Correspondence& c : others.planar) {
+    EXPECT_NE(static_cast<int>(std::lround(c.source.x() / 0.6)) % 3, 0);
+  }
+}
+
 // An unknown source point (its scan could not judge the surface) takes the class of the map
 // point it meets: point-to-plane on a map wall, point-to-point on a map edge. Without the
 // rule it only meets unknown map points.
@@ -508,6 +540,53 @@ TEST(Registration, ReusedPairsConvergeToTheSamePoseWithFewerSearches) {
   EXPECT_GE(reused.searches, 2);
   const Vector6d difference = LogSE3(searched.T_world_sensor.inverse() * reused.T_world_sensor);
   EXPECT_LT(difference.norm(), 5e-4);
+}
+
+// The first searches pair a third of the points; the pose is the one all points give, and the
+// search looks up at least a quarter fewer points on the way there (0.3 m and 5 deg off).
+TEST(Registration, CoarseToFineReachesThePoseOfAllPointsWithFewerLookups) {
+  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
+  const VoxelHashMap map = MapOf(room);
+  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
+  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
+                          .Transformed(T_true.inverse());
+  RegistrationConfig fine_only;
+  fine_only.coarse_stride = 1;
+  RegistrationConfig coarse_to_fine;
+  ASSERT_EQ(coarse_to_fine.coarse_stride, 3);
+  const auto run = [&](const RegistrationConfig& config) {
+    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 1.0,
+                        0.3, config);
+  };
+  const RegistrationResult fine = run(fine_only);
+  const RegistrationResult coarse = run(coarse_to_fine);
+  ASSERT_TRUE(fine.converged && coarse.converged);
+  EXPECT_EQ(fine.searched_points, static_cast<std::size_t>(fine.searches) * source.points.size());
+  EXPECT_LT(static_cast<double>(coarse.searched_points),
+            0.75 * static_cast<double>(fine.searched_points));
+  EXPECT_LT(LogSE3(fine.T_world_sensor.inverse() * coarse.T_world_sensor).norm(), 5e-4);
+  EXPECT_LT(LogSE3(T_true.inverse() * coarse.T_world_sensor).norm(), 2e-3);
+}
+
+// A scan too small for a coarse subset (a third of 45 points is under min_correspondences)
+// is registered with all its points, not dropped.
+TEST(Registration, CoarsePhaseGivesWayWhenTheSubsetIsTooSmall) {
+  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
+  const VoxelHashMap map = MapOf(room);
+  const auto full = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07);
+  test::LabelledCloud source;
+  const std::size_t step = full.points.size() / 45;
+  for (std::size_t i = 0; i < full.points.size() && source.points.size() < 45; i += step) {
+    source.Add(full.points[i] + Eigen::Vector3d(0.02, -0.01, 0.0), full.labels[i],
+               full.normals[i]);
+  }
+  RegistrationConfig config;
+  config.min_correspondences = 30;
+  const RegistrationResult r = RegisterScan(source.points, source.labels, map,
+                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, config);
+  EXPECT_TRUE(r.enough_correspondences);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT((r.T_world_sensor.translation() - Eigen::Vector3d(-0.02, 0.01, 0.0)).norm(), 5e-3);
 }
 
 // A room as the odometry sees it: 1.5 cm range noise on map and scan, map normals a few

@@ -43,6 +43,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
             defaults.preprocess.range_image.min_auto_cols);
   EXPECT_DOUBLE_EQ(loaded.registration.max_step_extrapolation,
                    defaults.registration.max_step_extrapolation);
+  EXPECT_EQ(loaded.registration.coarse_stride, defaults.registration.coarse_stride);
   EXPECT_DOUBLE_EQ(loaded.in_scan_velocity_sigma, defaults.in_scan_velocity_sigma);
   EXPECT_DOUBLE_EQ(loaded.in_scan_rate_sigma, defaults.in_scan_rate_sigma);
   EXPECT_DOUBLE_EQ(loaded.in_scan_angular_acceleration_sigma,
@@ -58,7 +59,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
 TEST(OdometryConfigYaml, ValuesAreRead) {
   const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
       "registration: {mode: plane_only, max_iterations: 7, max_step_extrapolation: 1.0,\n"
-      "               point_shape_min_points: 12, line_normal_support: 0.25}\n"
+      "               point_shape_min_points: 12, line_normal_support: 0.25, coarse_stride: 1}\n"
       "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
       "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
@@ -72,6 +73,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
   EXPECT_EQ(c.registration.point_shape_min_points, 12);
   EXPECT_DOUBLE_EQ(c.registration.line_normal_support, 0.25);
+  EXPECT_EQ(c.registration.coarse_stride, 1);
   EXPECT_DOUBLE_EQ(c.in_scan_velocity_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_rate_sigma, 0.0);
   EXPECT_DOUBLE_EQ(c.in_scan_angular_acceleration_sigma, 0.0);
@@ -97,6 +99,9 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf("registration: {max_step_extrapolation: 0.5}")
                 .find("registration.max_step_extrapolation"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("registration: {coarse_stride: 0}")
+                .find("registration.coarse_stride: must be in [1, 64] (1 = off)"),
             std::string::npos);
   EXPECT_NE(ErrorOf("motion_prior: {hold_spin_axis_acceleration: true}")
                 .find("motion_prior.hold_spin_axis_acceleration: was replaced by "
