@@ -326,6 +326,38 @@ TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
   EXPECT_NEAR(r.T_world_sensor.translation().x(), 0.4, 0.006);
 }
 
+// The same end wall under coarse to fine: a third of its 15 points would be all the subset
+// knows of the axis. A weak scan leaves the coarse phase after its first search, keeping those
+// pairs, so every point is looked up exactly once before the full iterations; the pose is the
+// one all points give.
+TEST(Registration, AWeakScanIsRegisteredWithAllItsPoints) {
+  test::LabelledCloud map_cloud = Corridor();
+  test::LabelledCloud scan_world = map_cloud;
+  for (double y = -0.3; y <= 0.3; y += 0.15) {
+    for (double z = -0.2; z <= 0.2; z += 0.2) {
+      map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+      scan_world.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+    }
+  }
+  const VoxelHashMap map = MapOf(map_cloud);
+  const auto source = scan_world.Transformed(test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0).inverse());
+  const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const auto run = [&](int coarse_stride) {
+    RegistrationConfig config;
+    config.coarse_stride = coarse_stride;
+    return RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, config,
+                        TwoCentimetrePrior());
+  };
+  const RegistrationResult all = run(1);
+  const RegistrationResult coarse_to_fine = run(3);
+  ASSERT_TRUE(coarse_to_fine.converged);
+  EXPECT_TRUE(coarse_to_fine.degeneracy.AnyDegenerate());
+  EXPECT_EQ(coarse_to_fine.searched_points,
+            static_cast<std::size_t>(coarse_to_fine.searches - 1) * source.points.size());
+  EXPECT_EQ(coarse_to_fine.searches - 1, all.searches);
+  EXPECT_LT(LogSE3(all.T_world_sensor.inverse() * coarse_to_fine.T_world_sensor).norm(), 1e-6);
+}
+
 // Height as the weak direction, as at the start of a hand-held VLP-16 corridor walk: a short
 // corridor whose walls are mapped only near its ends, a few rings across floor and ceiling
 // (4 % of the walls' information) and, in between, single rings along the walls, a handful of
