@@ -619,11 +619,12 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
         H_planar, fused ? config.weak_eigenvalue_ratio : config.degenerate_eigenvalue_ratio);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
     const bool weak_aware = fused && planar_report.AnyDegenerate();
-    if (coarse && weak_aware) {
+    if (coarse && planar_report.AnyDegenerate()) {
       // Along a weak direction the few pairs facing it (a jamb, an end wall) are what observe
       // it, and a subset may miss them: the coarse pose then slid along the endless
       // corridor's axis, and the pairs searched there stuck (VLP-16 APE 48.9 -> 68.1 m).
       // These pairs were just searched: the full search keeps them and adds the others.
+      // (Full mode: weak directions; the other modes: degenerate ones.)
       end_coarse_phase(true);
       continue;
     }

@@ -302,24 +302,34 @@ TEST(Registration, FullModeTreatsPointPairsOnAWallAsPlanes) {
   EXPECT_GT(std::abs(t_points.z()) + std::abs(t_points.x() - 0.4), 0.02);
 }
 
+// The corridor with an end wall of 15 points at x = 25 m facing its axis (a door jamb or a far
+// end wall), the scan taken 0.4 m along the axis, and a guess 5 cm short of it.
+struct CorridorWithASmallEndWall {
+  CorridorWithASmallEndWall() {
+    test::LabelledCloud map_cloud = Corridor();
+    test::LabelledCloud scan_world = map_cloud;
+    for (double y = -0.3; y <= 0.3; y += 0.15) {
+      for (double z = -0.2; z <= 0.2; z += 0.2) {
+        map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+        scan_world.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
+      }
+    }
+    map = MapOf(map_cloud);
+    source = scan_world.Transformed(test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0).inverse());
+  }
+  RegistrationResult Run(const RegistrationConfig& config) const {
+    const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);
+    return RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, config,
+                        TwoCentimetrePrior());
+  }
+  VoxelHashMap map{0.5, 1000.0, 50};
+  test::LabelledCloud source;
+};
+
 // Full mode: an end wall only a few points large, facing the axis, still moves the estimate
 // along it against the prior (what a door jamb or a far end wall does in a real corridor).
 TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
-  test::LabelledCloud map_cloud = Corridor();
-  test::LabelledCloud scan_world = map_cloud;
-  for (double y = -0.3; y <= 0.3; y += 0.15) {
-    for (double z = -0.2; z <= 0.2; z += 0.2) {
-      map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
-      scan_world.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
-    }
-  }
-  const VoxelHashMap map = MapOf(map_cloud);
-  const Eigen::Isometry3d T_true = test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0);
-  const auto source = scan_world.Transformed(T_true.inverse());
-  const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);  // 5 cm short
-  const MotionPrior prior = TwoCentimetrePrior();
-  const RegistrationResult r =
-      RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, RegistrationConfig{}, prior);
+  const RegistrationResult r = CorridorWithASmallEndWall().Run(RegistrationConfig{});
   ASSERT_TRUE(r.enough_correspondences);
   EXPECT_TRUE(r.degeneracy.AnyDegenerate());
   // 15 points with 2 cm residual noise outweigh a 2 cm prior 15 to 1.
@@ -331,31 +341,19 @@ TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
 // pairs, so every point is looked up exactly once before the full iterations; the pose is the
 // one all points give.
 TEST(Registration, AWeakScanIsRegisteredWithAllItsPoints) {
-  test::LabelledCloud map_cloud = Corridor();
-  test::LabelledCloud scan_world = map_cloud;
-  for (double y = -0.3; y <= 0.3; y += 0.15) {
-    for (double z = -0.2; z <= 0.2; z += 0.2) {
-      map_cloud.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
-      scan_world.Add({25.0, y, z}, PointClass::Wall, {-1, 0, 0});
-    }
-  }
-  const VoxelHashMap map = MapOf(map_cloud);
-  const auto source = scan_world.Transformed(test::MakePose(0.4, 0.0, 0.0, 0.0, 0.0, 0.0).inverse());
-  const Eigen::Isometry3d guess = test::MakePose(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);
-  const auto run = [&](int coarse_stride) {
-    RegistrationConfig config;
-    config.coarse_stride = coarse_stride;
-    return RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, config,
-                        TwoCentimetrePrior());
-  };
-  const RegistrationResult all = run(1);
-  const RegistrationResult coarse_to_fine = run(3);
-  ASSERT_TRUE(coarse_to_fine.converged);
-  EXPECT_TRUE(coarse_to_fine.degeneracy.AnyDegenerate());
-  EXPECT_EQ(coarse_to_fine.searched_points,
-            static_cast<std::size_t>(coarse_to_fine.searches - 1) * source.points.size());
-  EXPECT_EQ(coarse_to_fine.searches - 1, all.searches);
-  EXPECT_LT(LogSE3(all.T_world_sensor.inverse() * coarse_to_fine.T_world_sensor).norm(), 1e-6);
+  const CorridorWithASmallEndWall corridor;
+  RegistrationConfig all_points;
+  all_points.coarse_stride = 1;
+  RegistrationConfig coarse_to_fine;
+  coarse_to_fine.coarse_stride = 3;
+  const RegistrationResult all = corridor.Run(all_points);
+  const RegistrationResult coarse = corridor.Run(coarse_to_fine);
+  ASSERT_TRUE(coarse.converged);
+  EXPECT_TRUE(coarse.degeneracy.AnyDegenerate());
+  EXPECT_EQ(coarse.searched_points,
+            static_cast<std::size_t>(coarse.searches - 1) * corridor.source.points.size());
+  EXPECT_EQ(coarse.searches - 1, all.searches);
+  EXPECT_LT(LogSE3(all.T_world_sensor.inverse() * coarse.T_world_sensor).norm(), 1e-6);
 }
 
 // Height as the weak direction, as at the start of a hand-held VLP-16 corridor walk: a short
@@ -520,20 +518,27 @@ TEST(Registration, ARingArcAcrossTheFloorIsTheFloorNotALine) {
   EXPECT_LT(x_after(both_normals), 0.4 - 0.02);
 }
 
+// A closed room's map and a scan of it taken 0.3 m and 5 deg off, sampled on a shifted grid so
+// that no source point coincides with a map point.
+struct ShiftedRoomScan {
+  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
+  const VoxelHashMap map = MapOf(test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2));
+  const test::LabelledCloud source =
+      test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07).Transformed(T_true.inverse());
+  RegistrationResult Run(const RegistrationConfig& config) const {
+    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 1.0,
+                        0.3, config);
+  }
+};
+
 class KnownMotion : public ::testing::TestWithParam<RegistrationMode> {};
 
 TEST_P(KnownMotion, RecoversRigidMotionInAClosedRoom) {
-  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
-  const VoxelHashMap map = MapOf(room);
-  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
-  // Source sampled on a shifted grid: no source point coincides with a map point.
-  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
-                          .Transformed(T_true.inverse());
+  const ShiftedRoomScan room;
   RegistrationConfig config;
   config.mode = GetParam();
-  const RegistrationResult r = RegisterScan(source.points, source.labels, map,
-                                            Eigen::Isometry3d::Identity(), 1.0, 0.3, config);
-  const Vector6d error = LogSE3(T_true.inverse() * r.T_world_sensor);
+  const RegistrationResult r = room.Run(config);
+  const Vector6d error = LogSE3(room.T_true.inverse() * r.T_world_sensor);
   const double tol = GetParam() == RegistrationMode::kPointToPoint ? 0.05 : 2e-3;
   EXPECT_LT(error.head<3>().norm(), tol) << Name(GetParam());
   EXPECT_LT(error.tail<3>().norm(), tol) << Name(GetParam());
@@ -548,23 +553,15 @@ INSTANTIATE_TEST_SUITE_P(Modes, KnownMotion,
                          [](const auto& info) { return std::string(Name(info.param)); });
 
 TEST(Registration, ReusedPairsConvergeToTheSamePoseWithFewerSearches) {
-  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
-  const VoxelHashMap map = MapOf(room);
-  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
-  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
-                          .Transformed(T_true.inverse());
+  const ShiftedRoomScan room;
   // A tight criterion adds the millimetre tail of steps where reuse applies.
   RegistrationConfig every_iteration;
   every_iteration.convergence_criterion = 1e-7;
   every_iteration.correspondence_reuse_distance = 0.0;
   RegistrationConfig reusing = every_iteration;
   reusing.correspondence_reuse_distance = 0.01;
-  const auto run = [&](const RegistrationConfig& config) {
-    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 1.0,
-                        0.3, config);
-  };
-  const RegistrationResult searched = run(every_iteration);
-  const RegistrationResult reused = run(reusing);
+  const RegistrationResult searched = room.Run(every_iteration);
+  const RegistrationResult reused = room.Run(reusing);
   EXPECT_EQ(searched.searches, searched.iterations);
   ASSERT_TRUE(reused.converged);
   EXPECT_LT(reused.searches, reused.iterations);
@@ -577,27 +574,20 @@ TEST(Registration, ReusedPairsConvergeToTheSamePoseWithFewerSearches) {
 // The first searches pair a third of the points; the pose is the one all points give, and the
 // search looks up at least a quarter fewer points on the way there (0.3 m and 5 deg off).
 TEST(Registration, CoarseToFineReachesThePoseOfAllPointsWithFewerLookups) {
-  const auto room = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2);
-  const VoxelHashMap map = MapOf(room);
-  const Eigen::Isometry3d T_true = test::MakePose(0.3, -0.2, 0.05, 0.01, -0.02, 0.08);
-  const auto source = test::BoxRoom(-6, 6, -4, 4, -1.5, 2.5, true, 0.2, 0.07)
-                          .Transformed(T_true.inverse());
+  const ShiftedRoomScan room;
   RegistrationConfig fine_only;
   fine_only.coarse_stride = 1;
   RegistrationConfig coarse_to_fine;
   ASSERT_EQ(coarse_to_fine.coarse_stride, 3);
-  const auto run = [&](const RegistrationConfig& config) {
-    return RegisterScan(source.points, source.labels, map, Eigen::Isometry3d::Identity(), 1.0,
-                        0.3, config);
-  };
-  const RegistrationResult fine = run(fine_only);
-  const RegistrationResult coarse = run(coarse_to_fine);
+  const RegistrationResult fine = room.Run(fine_only);
+  const RegistrationResult coarse = room.Run(coarse_to_fine);
   ASSERT_TRUE(fine.converged && coarse.converged);
-  EXPECT_EQ(fine.searched_points, static_cast<std::size_t>(fine.searches) * source.points.size());
+  EXPECT_EQ(fine.searched_points,
+            static_cast<std::size_t>(fine.searches) * room.source.points.size());
   EXPECT_LT(static_cast<double>(coarse.searched_points),
             0.75 * static_cast<double>(fine.searched_points));
   EXPECT_LT(LogSE3(fine.T_world_sensor.inverse() * coarse.T_world_sensor).norm(), 5e-4);
-  EXPECT_LT(LogSE3(T_true.inverse() * coarse.T_world_sensor).norm(), 2e-3);
+  EXPECT_LT(LogSE3(room.T_true.inverse() * coarse.T_world_sensor).norm(), 2e-3);
 }
 
 // A scan too small for a coarse subset (a third of 45 points is under min_correspondences)
