@@ -278,7 +278,9 @@ RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   RegistrationResult reg = RegisterSource(frame, Prior(dt, motion_model_holds_));
   if (frame.raw && reg.enough_correspondences &&
       Deviation(frame.T_pred, reg.T_world_sensor) > config_.motion_model_max_deviation) {
+    const std::size_t first_lookups = reg.searched_points;
     reg = RedeskewAndRegister(frame, reg, dt);
+    reg.searched_points += first_lookups;  // the scan's work counts both registrations
   }
   first_scan_raw_.reset();
   return reg;
@@ -357,6 +359,7 @@ void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
   result.alpha = reg.alpha;
   result.num_correspondences = reg.num_planar + reg.num_point;
   result.iterations = reg.iterations;
+  result.searched_points = reg.searched_points;
   result.converged = reg.converged;
 }
 

@@ -74,6 +74,9 @@ struct OdometryResult {
   std::uint32_t num_correspondences = 0;
   std::size_t map_points = 0;  // in the local map after this scan (cropped: stays bounded)
   int iterations = 0;
+  // Source points looked up in the map over all correspondence searches: the search's work,
+  // which unlike its time does not depend on the machine's load.
+  std::size_t searched_points = 0;
   bool converged = false;
   double correspondence_gate = 0.0;  // metres: 3 sigma of the adaptive threshold, this scan's
   StageTimings timings;

@@ -231,9 +231,15 @@ TEST(OdometryIntegration, KnownMotionBetweenTwoScansIsRecovered) {
   // The simulated drive starts from rest: take two scans after the 2 s ramp-up.
   const auto seq = GenerateSequence(sim::SceneKind::Outdoor, sim::Os1_64(), 34);
   OdometryPipeline pipeline(OdometryConfig{}, seq.model);
-  ASSERT_EQ(pipeline.Process(seq.scans[30]).status, OdometryStatus::kFirstScan);
+  const OdometryResult first = pipeline.Process(seq.scans[30]);
+  ASSERT_EQ(first.status, OdometryStatus::kFirstScan);
   const OdometryResult r = pipeline.Process(seq.scans[33]);
   ASSERT_TRUE(Registered(r.status));
+  // The search's work is reported: none for the first scan (no map yet), and every pair found
+  // was looked up at least once.
+  EXPECT_EQ(first.searched_points, 0u);
+  EXPECT_GT(r.num_correspondences, 0u);
+  EXPECT_GE(r.searched_points, r.num_correspondences);
   const Eigen::Isometry3d gt = seq.ground_truth[30].T.inverse() * seq.ground_truth[33].T;
   const Vector6d error = LogSE3(gt.inverse() * r.T_world_sensor);
   EXPECT_GT(gt.translation().norm(), 0.3);  // the motion is not trivial

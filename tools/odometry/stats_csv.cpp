@@ -12,7 +12,8 @@ StatsCsv::StatsCsv(const std::filesystem::path& file) : out_(file), file_(file) 
   out_ << "index,stamp,status,projection_ms,normals_ms,classification_ms,deskew_ms,"
           "downsample_ms,registration_ms,map_update_ms,total_ms,alpha,lambda0,lambda1,lambda2,"
           "degenerate0,degenerate1,degenerate2,iterations,converged,correspondences,"
-          "n_unknown,n_ground,n_roof,n_wall,n_edge,map_points,rss_mib\n";
+          "n_unknown,n_ground,n_roof,n_wall,n_edge,map_points,rss_mib,"
+          "searched_points\n";
 }
 
 void StatsCsv::Write(const OdometryResult& r) {
@@ -26,7 +27,8 @@ void StatsCsv::Write(const OdometryResult& r) {
        << d.degenerate[0] << ',' << d.degenerate[1] << ',' << d.degenerate[2] << ','
        << r.iterations << ',' << r.converged << ',' << r.num_correspondences;
   for (auto c : r.class_counts) out_ << ',' << c;
-  out_ << ',' << r.map_points << ',' << io::ResidentSetMiB() << '\n';
+  out_ << ',' << r.map_points << ',' << io::ResidentSetMiB() << ','
+       << r.searched_points << '\n';
   if (!out_) throw std::runtime_error(file_.string() + ": write failed");
 }
 
