@@ -105,6 +105,7 @@ struct SeedResult {
   std::size_t scans = 0;
   bench::TrajectoryErrors errors;
   std::vector<double> features_ms, registration_ms, map_update_ms, total_ms, iterations, map_points;
+  std::vector<double> searched_points;  // map lookups per scan
   std::size_t registered = 0;
   std::size_t degenerate = 0;
   std::string failure;  // peers: why the run gave no result
@@ -148,6 +149,7 @@ struct Aggregate {
   std::size_t worst_frame_index = 0;
   Percentiles features, registration, map_update, total;
   double iterations_median = 0, map_median = 0, map_max = 0;
+  double searched_points_median = 0;
   double degenerate_share = 0, registered_share = 0;
 };
 
@@ -183,6 +185,7 @@ Aggregate Summarise(const Row& row) {
   a.map_update = bench::ComputePercentiles(Pool(row, &SeedResult::map_update_ms));
   a.total = bench::ComputePercentiles(Pool(row, &SeedResult::total_ms));
   a.iterations_median = Median(Pool(row, &SeedResult::iterations));
+  a.searched_points_median = Median(Pool(row, &SeedResult::searched_points));
   const Percentiles map = bench::ComputePercentiles(Pool(row, &SeedResult::map_points));
   a.map_median = map.median;
   a.map_max = map.max;
@@ -203,6 +206,7 @@ SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const 
     r.map_update_ms.push_back(t.map_update_ms);
     r.total_ms.push_back(t.total_ms);
     r.iterations.push_back(s.iterations);
+    r.searched_points.push_back(static_cast<double>(s.searched_points));
     r.map_points.push_back(static_cast<double>(s.map_points));
     if (Registered(s.status)) ++r.registered;
     if (s.degenerate) ++r.degenerate;
@@ -429,6 +433,13 @@ std::string Kilo(double n) {
   return buf;
 }
 
+// One decimal: lookups per scan differ by a few percent between builds.
+std::string Thousands(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1fk", n / 1e3);
+  return buf;
+}
+
 std::string SeedList(const std::vector<std::uint64_t>& seeds) {
   std::string s;
   for (const auto seed : seeds) s += (s.empty() ? "" : ",") + std::to_string(seed);
@@ -441,12 +452,12 @@ void PrintGroup(const Options& o, const GroupResult& r) {
               g.label.c_str(), g.sensor.name.c_str(), g.scans, SeedList(o.seeds).c_str(),
               r.from_cache ? "read from cache" : "simulated", r.sim_ms_per_scan, r.rss_end_mib,
               r.rss_peak_mib);
-  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %9s %5s\n", "mode",
-              "APE", "APEmax", "APE spread", "RPE", "worst frame", "feat ms", "reg ms", "map ms",
-              "total ms", "x base", "it", "map pts", "degen");
-  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %9s %5s\n", "",
-              "med m", "m", "min-max m", "med m", "m (x median)", "med/p99", "med/p99", "med/p99",
-              "med/p99", "", "med", "med/max", "");
+  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %7s %9s %5s\n",
+              "mode", "APE", "APEmax", "APE spread", "RPE", "worst frame", "feat ms", "reg ms",
+              "map ms", "total ms", "x base", "it", "lookups", "map pts", "degen");
+  std::printf("  %-22s %6s %6s %13s %6s %14s | %-11s %-11s %-11s %-11s %6s | %3s %7s %9s %5s\n",
+              "", "med m", "m", "min-max m", "med m", "m (x median)", "med/p99", "med/p99",
+              "med/p99", "med/p99", "", "med", "med", "med/max", "");
   const Aggregate baseline = Summarise(r.rows.front());
   // Peers are compared with our full mode, or the last mode when full is not run.
   std::optional<Aggregate> full;
@@ -476,12 +487,13 @@ void PrintGroup(const Options& o, const GroupResult& r) {
                   baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
                   full_name.c_str(), ratio, a.seeds < o.seeds.size() ? " (some seeds failed)" : "");
     } else {
-      std::printf("%4.1f/%-6.1f %4.1f/%-6.1f %4.1f/%-6.1f %5.1f/%-5.1f x%5.2f | %3.0f %4s/%-4s %4.0f%%\n",
-                  a.features.median, a.features.p99, a.registration.median, a.registration.p99,
-                  a.map_update.median, a.map_update.p99, a.total.median, a.total.p99,
-                  baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
-                  a.iterations_median, Kilo(a.map_median).c_str(), Kilo(a.map_max).c_str(),
-                  100.0 * a.degenerate_share);
+      std::printf(
+          "%4.1f/%-6.1f %4.1f/%-6.1f %4.1f/%-6.1f %5.1f/%-5.1f x%5.2f | %3.0f %7s %4s/%-4s %4.0f%%\n",
+          a.features.median, a.features.p99, a.registration.median, a.registration.p99,
+          a.map_update.median, a.map_update.p99, a.total.median, a.total.p99,
+          baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
+          a.iterations_median, Thousands(a.searched_points_median).c_str(), Kilo(a.map_median).c_str(),
+          Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
     }
   }
   std::fflush(stdout);
@@ -549,6 +561,7 @@ nlohmann::json ToJson(const GroupResult& r, const Options& o) {
       e["ms"]["registration"] = ToJson(a.registration);
       e["ms"]["map_update"] = ToJson(a.map_update);
       e["median_iterations"] = a.iterations_median;
+      e["median_searched_points"] = a.searched_points_median;
       e["map_points"] = {{"median", a.map_median}, {"max", a.map_max}};
       e["degenerate_share"] = a.degenerate_share;
       e["registered_share"] = a.registered_share;

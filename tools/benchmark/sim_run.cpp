@@ -131,6 +131,7 @@ ScanRecord ToRecord(const OdometryResult& r) {
   record.timings = r.timings;
   record.map_points = r.map_points;
   record.iterations = r.iterations;
+  record.searched_points = r.searched_points;
   record.num_correspondences = r.num_correspondences;
   record.alpha = r.alpha;
   record.eigenvalues = r.degeneracy.eigenvalues;

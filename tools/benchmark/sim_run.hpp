@@ -79,6 +79,7 @@ struct ScanRecord {
   StageTimings timings;
   std::size_t map_points = 0;
   int iterations = 0;
+  std::size_t searched_points = 0;  // map lookups: the search's work, whatever the machine's load
   std::uint32_t num_correspondences = 0;
   double alpha = 0.0;
   Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();
