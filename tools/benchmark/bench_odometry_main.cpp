@@ -487,13 +487,13 @@ void PrintGroup(const Options& o, const GroupResult& r) {
                   baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
                   full_name.c_str(), ratio, a.seeds < o.seeds.size() ? " (some seeds failed)" : "");
     } else {
-      std::printf(
-          "%4.1f/%-6.1f %4.1f/%-6.1f %4.1f/%-6.1f %5.1f/%-5.1f x%5.2f | %3.0f %7s %4s/%-4s %4.0f%%\n",
-          a.features.median, a.features.p99, a.registration.median, a.registration.p99,
-          a.map_update.median, a.map_update.p99, a.total.median, a.total.p99,
-          baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0,
-          a.iterations_median, Thousands(a.searched_points_median).c_str(), Kilo(a.map_median).c_str(),
-          Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
+      std::printf("%4.1f/%-6.1f %4.1f/%-6.1f %4.1f/%-6.1f %5.1f/%-5.1f x%5.2f | ",
+                  a.features.median, a.features.p99, a.registration.median, a.registration.p99,
+                  a.map_update.median, a.map_update.p99, a.total.median, a.total.p99,
+                  baseline.total.median > 0 ? a.total.median / baseline.total.median : 0.0);
+      std::printf("%3.0f %7s %4s/%-4s %4.0f%%\n", a.iterations_median,
+                  Thousands(a.searched_points_median).c_str(), Kilo(a.map_median).c_str(),
+                  Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
     }
   }
   std::fflush(stdout);
