@@ -116,20 +116,36 @@ double BoxDistanceSq(const Eigen::Vector3d& local, const std::array<int, 3>& off
   return d2;
 }
 
+
+// Distance from `local` (voxel units) to the nearest face of the 27-voxel block around its
+// voxel, in voxel units: every point outside the block is at least this far away.
+double BlockEdgeDistance(const Eigen::Vector3d& local) {
+  double d = std::numeric_limits<double>::max();
+  for (int axis = 0; axis < 3; ++axis) d = std::min({d, local[axis] + 1.0, 2.0 - local[axis]});
+  return d;
+}
+
 }  // namespace
 
-const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
-                                               std::optional<PointClass> label,
-                                               double max_distance) const {
+VoxelHashMap::NearestPoint VoxelHashMap::Nearest(const Eigen::Vector3d& query,
+                                                 std::optional<PointClass> label,
+                                                 double max_distance) const {
   const Voxel centre = PointToVoxel(query, voxel_size_);
   const Eigen::Vector3d local = query / voxel_size_ - centre.cast<double>();
   const double inv_voxel_sq = 1.0 / (voxel_size_ * voxel_size_);
-  const MapPoint* best = nullptr;
-  double best_sq = std::isfinite(max_distance) ? max_distance * max_distance
-                                               : std::numeric_limits<double>::max();
+  const double gate_sq = std::isfinite(max_distance) ? max_distance * max_distance
+                                                     : std::numeric_limits<double>::max();
+  const MapPoint* nearest = nullptr;
+  double nearest_sq = std::numeric_limits<double>::max();  // of any point seen, gate or not
+  double second_sq = std::numeric_limits<double>::max();
+  double skipped_box_sq = std::numeric_limits<double>::max();  // voxel units, nearest skipped
   for (const auto& offset : kNeighbourOffsets) {
     // A box farther than the best match cannot hold a better one: skip its hash lookup.
-    if (BoxDistanceSq(local, offset) >= best_sq * inv_voxel_sq) continue;
+    const double box_sq = BoxDistanceSq(local, offset);
+    if (box_sq >= std::min(gate_sq, nearest_sq) * inv_voxel_sq) {
+      skipped_box_sq = std::min(skipped_box_sq, box_sq);
+      continue;
+    }
     const auto it = map_.find(centre + Voxel(offset[0], offset[1], offset[2]));
     if (it == map_.end()) continue;
     const VoxelBlock& block = it->second;
@@ -137,13 +153,40 @@ const MapPoint* VoxelHashMap::ClosestNeighbour(const Eigen::Vector3d& query,
     const MapPoint* last = label ? block.ClassEnd(Index(*label)) : block.points.data() + block.points.size();
     for (const MapPoint* p = first; p != last; ++p) {
       const double d_sq = (p->position - query).squaredNorm();
-      if (d_sq < best_sq) {
-        best_sq = d_sq;
-        best = p;
+      if (d_sq < nearest_sq) {
+        second_sq = nearest_sq;
+        nearest_sq = d_sq;
+        nearest = p;
+      } else if (d_sq < second_sq) {
+        second_sq = d_sq;
       }
     }
   }
-  return best;
+  // Below this every unseen point lies: skipped boxes, and everything outside the block.
+  const double unseen =
+      std::min(std::sqrt(skipped_box_sq), BlockEdgeDistance(local)) * voxel_size_;
+  NearestPoint out;
+  if (nearest != nullptr && nearest_sq < gate_sq) {
+    out.point = nearest;
+    out.others = std::min(std::sqrt(second_sq), unseen);
+  } else {
+    out.others = std::min(std::sqrt(nearest_sq), unseen);
+  }
+  return out;
+}
+
+bool VoxelHashMap::StillNearest(const NearestPoint& answer, const Eigen::Vector3d& searched_at,
+                                const Eigen::Vector3d& query, double max_distance) const {
+  // Rounding of the squared distances is ~1e-13 m at a kilometre; stay well clear of it.
+  constexpr double kRoundingMargin = 1e-9;
+  const double moved = (query - searched_at).norm();
+  if (answer.point == nullptr) {
+    // Every point was at least `others` away: none comes within the gate.
+    return moved + max_distance < answer.others - kRoundingMargin;
+  }
+  const double d = (answer.point->position - query).norm();
+  return d + moved < answer.others - kRoundingMargin && d < max_distance - kRoundingMargin &&
+         d < voxel_size_ - kRoundingMargin;
 }
 
 template <typename Visit>

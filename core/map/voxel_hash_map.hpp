@@ -40,7 +40,26 @@ class VoxelHashMap {
   // given and closer than max_distance. nullptr when there is none.
   const MapPoint* ClosestNeighbour(
       const Eigen::Vector3d& query, std::optional<PointClass> label,
-      double max_distance = std::numeric_limits<double>::infinity()) const;
+      double max_distance = std::numeric_limits<double>::infinity()) const {
+    return Nearest(query, label, max_distance).point;
+  }
+  // The same answer, with what it takes to know, for a query that has moved since, that the
+  // call would give it again: a lower bound on the distance of every other point the search
+  // could return (the second-nearest point seen, the boxes it skipped, the 27-voxel block's
+  // edge). A registration moving its source points by millimetres keeps such answers instead
+  // of searching again (StillNearest).
+  struct NearestPoint {
+    const MapPoint* point = nullptr;  // nullptr: none within max_distance
+    double others = 0.0;  // every other candidate (all of them if none) lies at least this far
+  };
+  NearestPoint Nearest(const Eigen::Vector3d& query, std::optional<PointClass> label,
+                       double max_distance = std::numeric_limits<double>::infinity()) const;
+  // Whether Nearest(query, same label, max_distance) would return `answer` again, `answer`
+  // having been found for a query at `searched_at`. Exact (no false yes) by the triangle
+  // inequality: the answer stays strictly nearest, within max_distance and within one voxel
+  // (so inside the new block), while its distance plus the query's move stays below `others`.
+  bool StillNearest(const NearestPoint& answer, const Eigen::Vector3d& searched_at,
+                    const Eigen::Vector3d& query, double max_distance) const;
 
   // Mean and covariance of every map point in the 27 voxels around the voxel holding `point`,
   // all classes: the shape of the surface a point pair lands on. The same for every point of

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "core/geometry/point_class.hpp"
@@ -33,7 +34,19 @@ struct SourceSubset {
 struct CorrespondenceSet {
   std::vector<Correspondence> planar;  // point-to-plane residuals
   std::vector<Correspondence> point;   // point-to-point residuals
+  std::size_t searched_points = 0;     // map lookups made (the others were remembered)
   std::size_t size() const { return planar.size() + point.size(); }
+};
+
+// Each source point's last answer from the map and where the point was when it was found. A
+// point whose answer still holds (VoxelHashMap::StillNearest) keeps it without a search, so the
+// pairs are exactly those of a fresh search. Valid for one map and one max_distance, i.e.
+// within one registration.
+struct SearchMemory {
+  explicit SearchMemory(std::size_t n) : answer(n), searched_at(n), searched(n, 0) {}
+  std::vector<VoxelHashMap::NearestPoint> answer;
+  std::vector<Eigen::Vector3d> searched_at;
+  std::vector<std::uint8_t> searched;  // 0: never
 };
 
 // Nearest-neighbour pairs within max_distance, in source order (deterministic; TBB parallel).
@@ -42,11 +55,13 @@ struct CorrespondenceSet {
 // unknown source point matches any class and is point-to-plane on a planar map point (see
 // RegistrationConfig). kPointToPoint ignores classes and normals; kPlaneOnly ignores classes
 // and makes every pair with a map normal planar. `subset` says which source points are paired.
+// With `memory` (sized to the source), answers still valid are reused and the others stored.
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
                                       RegistrationMode mode, bool unknown_defers_to_map = true,
                                       const std::vector<float>& times = {},
-                                      const SourceSubset& subset = SourceSubset{});
+                                      const SourceSubset& subset = SourceSubset{},
+                                      SearchMemory* memory = nullptr);
 
 }  // namespace dammloam

@@ -565,6 +565,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   InScanVector<K> motion = InScanVector<K>::Zero();  // departure from the deskew velocity
 
   CorrespondenceSet pairs;
+  SearchMemory search_memory(source_world.size());
   double moved_since_search = std::numeric_limits<double>::infinity();
   Vector6d previous_dx = Vector6d::Zero();
   // Coarse to fine: the first searches pair every coarse_stride-th source point only. The
@@ -593,10 +594,11 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
       const SourceSubset subset{coarse || add_settled ? coarse_stride : 1, add_settled};
       pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
                                   config.mode, config.unknown_defers_to_map,
-                                  K > 0 ? source_times : std::vector<float>{}, subset);
+                                  K > 0 ? source_times : std::vector<float>{}, subset,
+                                  &search_memory);
       moved_since_search = 0.0;
       ++result.searches;
-      result.searched_points += subset.CountOf(source_world.size());
+      result.searched_points += pairs.searched_points;
       if (add_settled) {
         for (auto [to, from] : {std::pair{&pairs.planar, &settled_coarse_pairs.planar},
                                 std::pair{&pairs.point, &settled_coarse_pairs.point}}) {

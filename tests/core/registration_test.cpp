@@ -147,6 +147,41 @@ TEST(Correspondences, StridePairsEveryKthSourcePoint) {
   }
 }
 
+// A registration's later searches remember each point's answer: after a small move the pairs
+// are those of a fresh search, and only points whose answer could have changed are looked up.
+TEST(Correspondences, RememberedAnswersGiveTheFreshSearchsPairs) {
+  test::LabelledCloud map_cloud;
+  std::vector<Eigen::Vector3d> source;
+  std::vector<PointClass> labels;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      map_cloud.Add({0.2 * i, 0.2 * j, 0.0}, PointClass::Ground, {0, 0, 1});
+      // Sources between the map points, some close to halfway (their answers are fragile).
+      source.emplace_back(0.2 * i + 0.01 * (j % 11), 0.2 * j + 0.03, 0.05);
+      labels.push_back(PointClass::Ground);
+    }
+  }
+  const VoxelHashMap map = MapOf(map_cloud);
+  SearchMemory memory(source.size());
+  const CorrespondenceSet first = FindCorrespondences(source, labels, map, 0.5, RegistrationMode::kFull,
+                                                      true, {}, SourceSubset{}, &memory);
+  EXPECT_EQ(first.searched_points, source.size());
+  for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(0.02, 0.0, 0.0);
+  const CorrespondenceSet fresh = FindCorrespondences(source, labels, map, 0.5, RegistrationMode::kFull);
+  const CorrespondenceSet remembered = FindCorrespondences(
+      source, labels, map, 0.5, RegistrationMode::kFull, true, {}, SourceSubset{}, &memory);
+  ASSERT_EQ(remembered.planar.size(), fresh.planar.size());
+  for (std::size_t k = 0; k < fresh.planar.size(); ++k) {
+    EXPECT_EQ(remembered.planar[k].target, fresh.planar[k].target) << k;
+    EXPECT_EQ(remembered.planar[k].source, fresh.planar[k].source) << k;
+  }
+  // Sources 1-3 cm from their map point's x, 10-18 cm from the next, moved 2 cm towards it:
+  // some answers change (x offsets of 8-10 cm now sit past halfway) and must be searched.
+  EXPECT_GT(remembered.searched_points, 0u);
+  EXPECT_LT(remembered.searched_points, source.size() / 2);
+  EXPECT_EQ(fresh.searched_points, source.size());
+}
+
 // An unknown source point (its scan could not judge the surface) takes the class of the map
 // point it meets: point-to-plane on a map wall, point-to-point on a map edge. Without the
 // rule it only meets unknown map points.

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <limits>
+#include <random>
 
 #include "core/map/map_config.hpp"
 #include "core/map/voxel_hash_map.hpp"
@@ -29,6 +31,46 @@ TEST(VoxelHashMap, SearchCoversExactlyTheNeighbouringVoxels) {
   map.AddPoints({{{1.9, 0.5, 0.5}, {0, 0, 0}, PointClass::Edge}});  // voxel (1,0,0)
   EXPECT_NE(map.ClosestNeighbour({0.5, 0.5, 0.5}, std::nullopt), nullptr);  // voxel (0,0,0)
   EXPECT_EQ(map.ClosestNeighbour({-0.5, 0.5, 0.5}, std::nullopt), nullptr);  // two voxels away
+}
+
+// A remembered answer is kept only where a fresh search would give it again: over random
+// maps, queries and moves up to 10 cm (class-wise and not, with and without a gate, answers
+// with a point and without), every "still nearest" is the point Nearest returns at the new
+// place. The check must also say yes often enough to be worth making.
+TEST(VoxelHashMap, StillNearestNeverKeepsAnAnswerAFreshSearchWouldChange) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> in_box(-1.5, 1.5);
+  std::uniform_real_distribution<double> step(-0.05, 0.05);
+  std::uniform_int_distribution<int> class_of(0, 1);
+  int kept = 0, kept_without_point = 0, asked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    VoxelHashMap map(0.5, 100.0, 20);
+    std::vector<MapPoint> points;
+    for (int i = 0; i < 60; ++i) {
+      const PointClass label = class_of(rng) == 0 ? PointClass::Wall : PointClass::Edge;
+      points.push_back({{in_box(rng), in_box(rng), in_box(rng)}, {0, 0, 0}, label});
+    }
+    map.AddPoints(points);
+    for (int q = 0; q < 50; ++q) {
+      const Eigen::Vector3d query(in_box(rng), in_box(rng), in_box(rng));
+      const std::optional<PointClass> label =
+          q % 3 == 0 ? std::nullopt : std::optional<PointClass>(PointClass::Wall);
+      const double gate = q % 2 == 0 ? 0.3 : std::numeric_limits<double>::infinity();
+      const VoxelHashMap::NearestPoint answer = map.Nearest(query, label, gate);
+      EXPECT_EQ(answer.point, map.ClosestNeighbour(query, label, gate));
+      for (int m = 0; m < 10; ++m) {
+        const Eigen::Vector3d moved = query + Eigen::Vector3d(step(rng), step(rng), step(rng));
+        ++asked;
+        if (!map.StillNearest(answer, query, moved, gate)) continue;
+        ++kept;
+        if (answer.point == nullptr) ++kept_without_point;
+        ASSERT_EQ(map.Nearest(moved, label, gate).point, answer.point)
+            << "trial " << trial << " query " << q << " move " << m;
+      }
+    }
+  }
+  EXPECT_GT(kept, asked / 10) << kept << " of " << asked;  // 24 % here: sparse points, long moves
+  EXPECT_GT(kept_without_point, 0);
 }
 
 TEST(VoxelHashMap, CapsPointsPerVoxelPerClass) {
