@@ -373,8 +373,8 @@ TEST(Registration, FullModeFollowsAFewPointsFacingTheWeakAxis) {
 
 // The same end wall under coarse to fine: a third of its 15 points would be all the subset
 // knows of the axis. A weak scan leaves the coarse phase after its first search, keeping those
-// pairs, so every point is looked up exactly once before the full iterations; the pose is the
-// one all points give.
+// pairs, so every point is looked up once before the full iterations (later searches look up
+// only the points whose answer may have changed); the pose is the one all points give.
 TEST(Registration, AWeakScanIsRegisteredWithAllItsPoints) {
   const CorridorWithASmallEndWall corridor;
   RegistrationConfig all_points;
@@ -385,7 +385,8 @@ TEST(Registration, AWeakScanIsRegisteredWithAllItsPoints) {
   const RegistrationResult coarse = corridor.Run(coarse_to_fine);
   ASSERT_TRUE(coarse.converged);
   EXPECT_TRUE(coarse.degeneracy.AnyDegenerate());
-  EXPECT_EQ(coarse.searched_points,
+  EXPECT_GE(coarse.searched_points, corridor.source.points.size());
+  EXPECT_LE(coarse.searched_points,
             static_cast<std::size_t>(coarse.searches - 1) * corridor.source.points.size());
   EXPECT_EQ(coarse.searches - 1, all.searches);
   EXPECT_LT(LogSE3(all.T_world_sensor.inverse() * coarse.T_world_sensor).norm(), 1e-6);
@@ -617,7 +618,8 @@ TEST(Registration, CoarseToFineReachesThePoseOfAllPointsWithFewerLookups) {
   const RegistrationResult fine = room.Run(fine_only);
   const RegistrationResult coarse = room.Run(coarse_to_fine);
   ASSERT_TRUE(fine.converged && coarse.converged);
-  EXPECT_EQ(fine.searched_points,
+  EXPECT_GE(fine.searched_points, room.source.points.size());
+  EXPECT_LE(fine.searched_points,
             static_cast<std::size_t>(fine.searches) * room.source.points.size());
   EXPECT_LT(static_cast<double>(coarse.searched_points),
             0.75 * static_cast<double>(fine.searched_points));
