@@ -105,17 +105,21 @@ constexpr std::array<std::array<int, 3>, 27> NeighbourOffsets() {
 }
 constexpr std::array<std::array<int, 3>, 27> kNeighbourOffsets = NeighbourOffsets();
 
-// Squared distance from a point at `local` (voxel units, in [0, 1)^3 of its own voxel) to the
-// neighbour box at `offset`, in voxel units.
-double BoxDistanceSq(const Eigen::Vector3d& local, const std::array<int, 3>& offset) {
-  double d2 = 0.0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double gap = offset[axis] < 0 ? local[axis] : (offset[axis] > 0 ? 1.0 - local[axis] : 0.0);
-    d2 += gap * gap;
+// Squared distances from a point at `local` (voxel units, in [0, 1)^3 of its own voxel) to the
+// neighbour boxes, per axis and offset -1 / 0 / +1: a box's squared distance is the sum over
+// its three offsets, so the 27 boxes cost three additions each.
+struct BoxGaps {
+  explicit BoxGaps(const Eigen::Vector3d& local) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const double below = local[axis], above = 1.0 - local[axis];
+      sq[axis] = {below * below, 0.0, above * above};
+    }
   }
-  return d2;
-}
-
+  double DistanceSq(const std::array<int, 3>& offset) const {
+    return sq[0][offset[0] + 1] + sq[1][offset[1] + 1] + sq[2][offset[2] + 1];
+  }
+  std::array<std::array<double, 3>, 3> sq;
+};
 
 // Distance from `local` (voxel units) to the nearest face of the 27-voxel block around its
 // voxel, in voxel units: every point outside the block is at least this far away.
@@ -133,6 +137,7 @@ VoxelHashMap::NearestPoint VoxelHashMap::Nearest(const Eigen::Vector3d& query,
   const Voxel centre = PointToVoxel(query, voxel_size_);
   const Eigen::Vector3d local = query / voxel_size_ - centre.cast<double>();
   const double inv_voxel_sq = 1.0 / (voxel_size_ * voxel_size_);
+  const BoxGaps gaps(local);
   const double gate_sq = std::isfinite(max_distance) ? max_distance * max_distance
                                                      : std::numeric_limits<double>::max();
   const MapPoint* nearest = nullptr;
@@ -141,7 +146,7 @@ VoxelHashMap::NearestPoint VoxelHashMap::Nearest(const Eigen::Vector3d& query,
   double skipped_box_sq = std::numeric_limits<double>::max();  // voxel units, nearest skipped
   for (const auto& offset : kNeighbourOffsets) {
     // A box farther than the best match cannot hold a better one: skip its hash lookup.
-    const double box_sq = BoxDistanceSq(local, offset);
+    const double box_sq = gaps.DistanceSq(offset);
     if (box_sq >= std::min(gate_sq, nearest_sq) * inv_voxel_sq) {
       skipped_box_sq = std::min(skipped_box_sq, box_sq);
       continue;
