@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -34,7 +35,28 @@ struct NormalEquations {
     chi2 += o.chi2;
     return *this;
   }
+  // H is symmetric: the per-pair terms fill its lower triangle only (AddLowerTriangle), about
+  // half the work of the outer products, the registration's largest cost after the search;
+  // this copies it to the upper one once the sums are done.
+  void MirrorLowerTriangle() {
+    H.template triangularView<Eigen::StrictlyUpper>() = H.transpose().eval();
+  }
 };
+
+// H += A * B on and below the diagonal, for A * B symmetric (A = w J^T W, B = J), column by
+// column with sizes known at compile time.
+template <int N, int R, int... Js>
+void AddLowerColumns(Eigen::Matrix<double, N, N>& H, const Eigen::Matrix<double, N, R>& A,
+                     const Eigen::Matrix<double, R, N>& B, std::integer_sequence<int, Js...>) {
+  ((H.col(Js).template tail<N - Js>().noalias() +=
+    A.template bottomRows<N - Js>() * B.col(Js)),
+   ...);
+}
+template <int N, int R>
+void AddLowerTriangle(Eigen::Matrix<double, N, N>& H, const Eigen::Matrix<double, N, R>& A,
+                      const Eigen::Matrix<double, R, N>& B) {
+  AddLowerColumns<N, R>(H, A, B, std::make_integer_sequence<int, N>{});
+}
 using LinearSystem = NormalEquations<6>;
 
 // In-scan motion: a point fired tau seconds off the registered frame moves by
@@ -105,7 +127,7 @@ NormalEquations<N> PlanarSystem(const std::vector<Correspondence>& pairs,
       if constexpr (N == 15) J.template tail<3>() = basis.Curve(c.time) * d_x_n;
     }
     const double w = alpha * weights[i] * RobustWeight(r * r, kernel_scale);
-    acc.H.noalias() += w * J * J.transpose();
+    AddLowerTriangle<N, 1>(acc.H, Eigen::Matrix<double, N, 1>(w * J), J.transpose());
     acc.b.noalias() += w * r * J;
     acc.chi2 += w * r * r;
   });
@@ -132,7 +154,7 @@ NormalEquations<N> PointSystem(const std::vector<Correspondence>& pairs, double 
     }
     const double w = weight * RobustWeight(r.squaredNorm(), kernel_scale);
     const Eigen::Matrix<double, N, 3> JtW = J.transpose() * W;
-    acc.H.noalias() += w * JtW * J;
+    AddLowerTriangle<N, 3>(acc.H, Eigen::Matrix<double, N, 3>(w * JtW), J);
     acc.b.noalias() += w * JtW * r;
     acc.chi2 += w * r.dot(W * r);
   });
@@ -422,6 +444,7 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
     // basis.point_metric projects the weak directions out.
     system += PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric, kernel_scale,
                              basis);
+    system.MirrorLowerTriangle();
     return system;
   }
   // Weighting trades information for robustness; a well-conditioned scene has nothing to
@@ -434,6 +457,7 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
                                            : Eigen::Matrix3d::Identity();
   NormalEquations<N> system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, basis);
   system += PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
+  system.MirrorLowerTriangle();
   return system;
 }
 
