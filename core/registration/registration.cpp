@@ -402,19 +402,25 @@ Eigen::Vector3d InScanShift(const InScanVector<K>& m, const InScanBasis& basis,
 }
 
 // The pose step, then (K > 0) the in-scan step about the new centre. Returns the largest
-// distance a point moved.
+// distance a point moved. Run every iteration over every source point, a serial pass here was
+// a tenth of the registration on two cores; a maximum is exact in any order.
 template <int K>
 double Transform(const Eigen::Isometry3d& T, const InScanVector<K>& in_scan_step,
                  const InScanBasis& basis, const std::vector<float>& times,
                  std::vector<Eigen::Vector3d>& points) {
-  double moved_sq = 0.0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    Eigen::Vector3d& p = points[i];
-    Eigen::Vector3d q = T * p;
-    if constexpr (K > 0) q += InScanShift<K>(in_scan_step, basis, q, times[i]);
-    moved_sq = std::max(moved_sq, (q - p).squaredNorm());
-    p = q;
-  }
+  const double moved_sq = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, points.size(), 1024), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double moved) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          Eigen::Vector3d& p = points[i];
+          Eigen::Vector3d q = T * p;
+          if constexpr (K > 0) q += InScanShift<K>(in_scan_step, basis, q, times[i]);
+          moved = std::max(moved, (q - p).squaredNorm());
+          p = q;
+        }
+        return moved;
+      },
+      [](double a, double b) { return std::max(a, b); });
   return std::sqrt(moved_sq);
 }
 
@@ -422,10 +428,16 @@ template <int K>
 void MoveSources(const Eigen::Isometry3d& T, const InScanVector<K>& in_scan_step,
                  const InScanBasis& basis, CorrespondenceSet& pairs) {
   for (std::vector<Correspondence>* set : {&pairs.planar, &pairs.point}) {
-    for (Correspondence& c : *set) {
-      c.source = T * c.source;
-      if constexpr (K > 0) c.source += InScanShift<K>(in_scan_step, basis, c.source, c.time);
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set->size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                          Correspondence& c = (*set)[i];
+                          c.source = T * c.source;
+                          if constexpr (K > 0) {
+                            c.source += InScanShift<K>(in_scan_step, basis, c.source, c.time);
+                          }
+                        }
+                      });
   }
 }
 
