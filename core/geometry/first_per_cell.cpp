@@ -34,10 +34,23 @@ std::vector<std::size_t> FirstPerCell::Select(
   });
   kept_.assign(n, 0);
   tbb::parallel_for(std::size_t{0}, kPartitions, [&](std::size_t p) { KeepFirstOfPartition(p); });
-  std::vector<std::size_t> kept;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (kept_[i]) kept.push_back(i);
-  }
+  // The kept indices in order, gathered block by block by all threads.
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::size_t> start(blocks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    const auto first = kept_.begin() + static_cast<std::ptrdiff_t>(b * kBlock);
+    const auto last = kept_.begin() + static_cast<std::ptrdiff_t>(std::min(n, (b + 1) * kBlock));
+    start[b + 1] = static_cast<std::size_t>(std::count(first, last, std::uint8_t{1}));
+  });
+  for (std::size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
+  std::vector<std::size_t> kept(start[blocks]);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    std::size_t next = start[b];
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      if (kept_[i]) kept[next++] = i;
+    }
+  });
   return kept;
 }
 

@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <chrono>
@@ -31,12 +32,25 @@ std::size_t RemoveInvalidPoints(Scan& scan, double min_range, double max_range) 
   DiscardIfInconsistent(scan.rings, n);
   const double min2 = min_range * min_range;
   const double max2 = max_range * max_range;
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto keep = [&](std::size_t i) {
     const double r2 = scan.points[i].squaredNorm();  // NaN/inf fail both comparisons below
-    const bool keep = r2 >= min2 && r2 <= max2 && scan.points[i].allFinite() &&
-                      (scan.times.empty() || std::isfinite(scan.times[i]));
-    if (!keep) continue;
+    return r2 >= min2 && r2 <= max2 && scan.points[i].allFinite() &&
+           (scan.times.empty() || std::isfinite(scan.times[i]));
+  };
+  // Where the first point to drop is (n: none), found by all threads: the points before it
+  // stay where they are.
+  const std::size_t first_dropped = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 4096), n,
+      [&](const tbb::blocked_range<std::size_t>& range, std::size_t first) {
+        for (std::size_t i = range.begin(); i < std::min(range.end(), first); ++i) {
+          if (!keep(i)) return i;
+        }
+        return first;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  std::size_t out = first_dropped;
+  for (std::size_t i = first_dropped; i < n; ++i) {
+    if (!keep(i)) continue;
     if (out != i) {
       scan.points[out] = scan.points[i];
       if (!scan.intensities.empty()) scan.intensities[out] = scan.intensities[i];
@@ -99,8 +113,16 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
       out.normals[i] = pixel_normals[static_cast<std::size_t>(pixel)];
     }
   });
-  out.class_counts.fill(0);
-  for (const PointClass label : out.labels) ++out.class_counts[Index(label)];
+  out.class_counts = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 4096), ClassCounts{},
+      [&](const tbb::blocked_range<std::size_t>& range, ClassCounts counts) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) ++counts[Index(out.labels[i])];
+        return counts;
+      },
+      [](ClassCounts a, const ClassCounts& b) {
+        for (std::size_t c = 0; c < a.size(); ++c) a[c] += b[c];
+        return a;
+      });
   out.classification_ms = MillisecondsSince(start);
   return out;
 }

@@ -6,13 +6,15 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <optional>
-#include <unordered_map>
 #include <utility>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
+#include <tsl/robin_map.h>
 
 #include "core/registration/correspondences.hpp"
 #include "core/registration/degeneracy_weights.hpp"
@@ -256,22 +258,30 @@ class ShapeCache {
 
   // The shapes around the targets of `pairs`, in their order.
   std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
-    std::vector<Voxel> voxels(pairs.size());
+    std::vector<const LocalShape*> out(pairs.size(), nullptr);
     std::vector<Voxel> missing;
+    std::vector<std::size_t> waiting;  // pairs whose voxel is in `missing`
     for (std::size_t i = 0; i < pairs.size(); ++i) {
-      voxels[i] = PointToVoxel(pairs[i].target, map_.voxel_size());
-      if (shapes_.try_emplace(voxels[i]).second) missing.push_back(voxels[i]);
+      const Voxel voxel = PointToVoxel(pairs[i].target, map_.voxel_size());
+      const auto [it, added] = index_.try_emplace(voxel, shapes_.size() + missing.size());
+      if (added) missing.push_back(voxel);
+      if (it->second < shapes_.size()) {
+        out[i] = &shapes_[it->second];
+      } else {
+        waiting.push_back(i);
+      }
     }
-    std::vector<LocalShape> computed(missing.size());
+    const std::size_t first_new = shapes_.size();
+    for (std::size_t i = 0; i < missing.size(); ++i) shapes_.emplace_back();  // keeps references
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, missing.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          computed[i] = ShapeAround(map_, Centre(missing[i]), config_);
+                          shapes_[first_new + i] = ShapeAround(map_, Centre(missing[i]), config_);
                         }
                       });
-    for (std::size_t i = 0; i < missing.size(); ++i) shapes_[missing[i]] = computed[i];
-    std::vector<const LocalShape*> out(pairs.size());
-    for (std::size_t i = 0; i < pairs.size(); ++i) out[i] = &shapes_.find(voxels[i])->second;
+    for (std::size_t i : waiting) {
+      out[i] = &shapes_[index_.find(PointToVoxel(pairs[i].target, map_.voxel_size()))->second];
+    }
     return out;
   }
 
@@ -281,8 +291,9 @@ class ShapeCache {
   }
   const VoxelHashMap& map_;
   const RegistrationConfig& config_;
-  // Node-based: pointers handed out stay valid while later lookups insert.
-  std::unordered_map<Voxel, LocalShape, VoxelHash> shapes_;
+  tsl::robin_map<Voxel, std::size_t, VoxelHash> index_;  // into shapes_
+  // A deque: pointers handed out stay valid while later lookups append.
+  std::deque<LocalShape> shapes_;
 };
 
 // A stored normal is one pixel's estimate: near the sensor the range noise spans most of its
@@ -449,13 +460,24 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
                               const InScanBasis& basis) {
   if (weak_aware) {
     const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
-    NormalEquations<N> system = PlanarSystem<N>(
-        sorted.planar, std::vector<double>(sorted.planar.size(), 1.0), alpha, kernel_scale, basis);
-    system += PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(), kernel_scale,
-                             basis);
-    // basis.point_metric projects the weak directions out.
-    system += PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric, kernel_scale,
-                             basis);
+    NormalEquations<N> system, point_system, unjudged_system;
+    // Together, so that the point pairs' few blocks fill the threads the planar sum leaves idle.
+    tbb::parallel_invoke(
+        [&] {
+          system = PlanarSystem<N>(sorted.planar, std::vector<double>(sorted.planar.size(), 1.0),
+                                   alpha, kernel_scale, basis);
+        },
+        [&] {
+          point_system = PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
+                                        kernel_scale, basis);
+        },
+        [&] {
+          // basis.point_metric projects the weak directions out.
+          unjudged_system = PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric,
+                                           kernel_scale, basis);
+        });
+    system += point_system;
+    system += unjudged_system;
     system.MirrorLowerTriangle();
     return system;
   }
@@ -467,8 +489,13 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
   const Eigen::Matrix3d point_metric = weigh && config.weight_point_residuals
                                            ? PointResidualMetric(planar_report)
                                            : Eigen::Matrix3d::Identity();
-  NormalEquations<N> system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, basis);
-  system += PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
+  NormalEquations<N> system, point_system;
+  tbb::parallel_invoke(
+      [&] { system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, basis); },
+      [&] {
+        point_system = PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
+      });
+  system += point_system;
   system.MirrorLowerTriangle();
   return system;
 }
