@@ -113,22 +113,29 @@ System ReduceDeterministic(std::size_t n, Fn add_term) {
 // Point-to-plane: r = n^T (s - q), J = [n^T, (s x n)^T] (paper eq. pt2pl). Under the in-scan
 // motion (InScanBasis) the twist's Jacobian is tau [n^T, (d x n)^T] and the angular
 // acceleration's Curve(tau) (d x n)^T.
-template <int N>
-NormalEquations<N> PlanarSystem(const std::vector<Correspondence>& pairs,
-                                const std::vector<double>& weights, double alpha,
-                                double kernel_scale, const InScanBasis& basis) {
-  return ReduceDeterministic<NormalEquations<N>>(pairs.size(), [&](std::size_t i,
-                                                                   NormalEquations<N>& acc) {
-    const Correspondence& c = pairs[i];
-    const double r = c.normal.dot(c.source - c.target);
+// One planar pair as PlanarSystem sees it: the searched pair, and the normal it counts with.
+struct PlanarPairView {
+  const Correspondence& pair;
+  const Eigen::Vector3d& normal;
+};
+
+template <int N, typename PairAt>
+NormalEquations<N> PlanarSystem(std::size_t n, PairAt pair_at, const std::vector<double>* weights,
+                                double alpha, double kernel_scale, const InScanBasis& basis) {
+  return ReduceDeterministic<NormalEquations<N>>(n, [&](std::size_t i, NormalEquations<N>& acc) {
+    const PlanarPairView view = pair_at(i);
+    const Correspondence& c = view.pair;
+    const Eigen::Vector3d& normal = view.normal;
+    const double r = normal.dot(c.source - c.target);
     Eigen::Matrix<double, N, 1> J;
-    J.template head<6>() << c.normal, c.source.cross(c.normal);
+    J.template head<6>() << normal, c.source.cross(normal);
     if constexpr (N >= 12) {
-      const Eigen::Vector3d d_x_n = (c.source - basis.centre).cross(c.normal);
-      J.template segment<6>(6) << c.time * c.normal, c.time * d_x_n;
+      const Eigen::Vector3d d_x_n = (c.source - basis.centre).cross(normal);
+      J.template segment<6>(6) << c.time * normal, c.time * d_x_n;
       if constexpr (N == 15) J.template tail<3>() = basis.Curve(c.time) * d_x_n;
     }
-    const double w = alpha * weights[i] * RobustWeight(r * r, kernel_scale);
+    const double weight = weights != nullptr ? (*weights)[i] : 1.0;
+    const double w = alpha * weight * RobustWeight(r * r, kernel_scale);
     AddLowerTriangle<N, 1>(acc.H, Eigen::Matrix<double, N, 1>(w * J), J.transpose());
     acc.b.noalias() += w * r * J;
     acc.chi2 += w * r * r;
@@ -202,10 +209,26 @@ Eigen::Matrix3d PointResidualMetric(const DegeneracyReport& report) {
 // point residual across the weak directions and none along them. Then every planar pair counts
 // along a weak direction only through a normal that faces it (|n.v| >= strong_cosine): the
 // noise of a wall's normal along a corridor is not information about the axis.
+// The planar pairs are the searched ones with their normals copied (and the weak components
+// taken out), then the point pairs a shape made planar: copying only the normals keeps the
+// searched pairs, 80 bytes each, out of a serial copy every iteration.
 struct WeakAwarePairs {
-  std::vector<Correspondence> planar;
+  const std::vector<Correspondence>& searched_planar;
+  std::vector<Eigen::Vector3d> searched_normals;
+  std::vector<Correspondence> shaped;  // point pairs turned planar by their map neighbourhood
   std::vector<Correspondence> point;
   std::vector<Correspondence> unjudged;  // point pairs whose map neighbourhood is too sparse
+
+  std::size_t NumPlanar() const { return searched_normals.size() + shaped.size(); }
+  Eigen::Vector3d& Normal(std::size_t j) {
+    const std::size_t n = searched_normals.size();
+    return j < n ? searched_normals[j] : shaped[j - n].normal;
+  }
+  PlanarPairView Planar(std::size_t j) const {
+    const std::size_t n = searched_normals.size();
+    if (j < n) return {searched_planar[j], searched_normals[j]};
+    return {shaped[j - n], shaped[j - n].normal};
+  }
 };
 
 struct LocalShape {
@@ -256,13 +279,14 @@ class ShapeCache {
   ShapeCache(const VoxelHashMap& map, const RegistrationConfig& config)
       : map_(map), config_(config) {}
 
-  // The shapes around the targets of `pairs`, in their order.
-  std::vector<const LocalShape*> Lookup(const std::vector<Correspondence>& pairs) {
-    std::vector<const LocalShape*> out(pairs.size(), nullptr);
+  // The shapes around target_of(0), ..., target_of(n - 1), in this order.
+  template <typename TargetOf>
+  std::vector<const LocalShape*> Lookup(std::size_t n, TargetOf target_of) {
+    std::vector<const LocalShape*> out(n, nullptr);
     std::vector<Voxel> missing;
-    std::vector<std::size_t> waiting;  // pairs whose voxel is in `missing`
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-      const Voxel voxel = PointToVoxel(pairs[i].target, map_.voxel_size());
+    std::vector<std::size_t> waiting;  // targets whose voxel is in `missing`
+    for (std::size_t i = 0; i < n; ++i) {
+      const Voxel voxel = PointToVoxel(target_of(i), map_.voxel_size());
       const auto [it, added] = index_.try_emplace(voxel, shapes_.size() + missing.size());
       if (added) missing.push_back(voxel);
       if (it->second < shapes_.size()) {
@@ -280,7 +304,7 @@ class ShapeCache {
                         }
                       });
     for (std::size_t i : waiting) {
-      out[i] = &shapes_[index_.find(PointToVoxel(pairs[i].target, map_.voxel_size()))->second];
+      out[i] = &shapes_[index_.find(PointToVoxel(target_of(i), map_.voxel_size()))->second];
     }
     return out;
   }
@@ -305,27 +329,31 @@ class ShapeCache {
 // (structures, or planes facing v) and sparse neighbourhoods keep it.
 void StripFacingNormalsOnOtherPlanes(const Eigen::Vector3d& v, double strong_cosine,
                                      const std::vector<std::size_t>& facing,
-                                     ShapeCache& shapes_around,
-                                     std::vector<Correspondence>& planar) {
+                                     ShapeCache& shapes_around, WeakAwarePairs& pairs) {
   if (facing.empty()) return;
-  std::vector<Correspondence> facing_pairs;
-  facing_pairs.reserve(facing.size());
-  for (std::size_t j : facing) facing_pairs.push_back(planar[j]);
-  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(facing_pairs);
+  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(
+      facing.size(), [&](std::size_t k) { return pairs.searched_planar[facing[k]].target; });
   for (std::size_t k = 0; k < facing.size(); ++k) {
     const LocalShape& shape = *shapes[k];
     if (!shape.judged || shape.planes != 1 || std::abs(shape.n[0].dot(v)) >= strong_cosine) {
       continue;
     }
-    Correspondence& c = planar[facing[k]];
-    c.normal -= c.normal.dot(v) * v;
+    Eigen::Vector3d& normal = pairs.searched_normals[facing[k]];
+    normal -= normal.dot(v) * v;
   }
 }
 
 WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport& report,
                          const RegistrationConfig& config, ShapeCache& shapes_around) {
-  WeakAwarePairs out{pairs.planar, {}, {}};
-  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(pairs.point);
+  WeakAwarePairs out{pairs.planar, std::vector<Eigen::Vector3d>(pairs.planar.size()), {}, {}, {}};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.planar.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t j = range.begin(); j < range.end(); ++j) {
+                        out.searched_normals[j] = pairs.planar[j].normal;
+                      }
+                    });
+  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(
+      pairs.point.size(), [&](std::size_t i) { return pairs.point[i].target; });
   for (std::size_t i = 0; i < pairs.point.size(); ++i) {
     if (!shapes[i]->judged) {
       out.unjudged.push_back(pairs.point[i]);
@@ -338,24 +366,31 @@ WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport&
     for (int k = 0; k < shapes[i]->planes; ++k) {
       Correspondence c = pairs.point[i];
       c.normal = shapes[i]->n[static_cast<std::size_t>(k)];
-      out.planar.push_back(c);
+      out.shaped.push_back(c);
     }
   }
   for (int i = 0; i < 3; ++i) {
     if (!report.degenerate[i]) continue;
     const Eigen::Vector3d v = report.eigenvectors.col(i);
-    std::vector<std::size_t> facing;  // planar pairs whose stored normal faces v
-    for (std::size_t j = 0; j < out.planar.size(); ++j) {
-      Correspondence& c = out.planar[j];
-      const double d = c.normal.dot(v);
-      if (std::abs(d) < config.strong_normal_cosine) {
-        c.normal -= d * v;
-      } else if (j < pairs.planar.size()) {  // pairs made from a shape already carry its normal
-        facing.push_back(j);
-      }
+    std::vector<std::uint8_t> faces(out.NumPlanar(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.NumPlanar(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t j = range.begin(); j < range.end(); ++j) {
+                          Eigen::Vector3d& normal = out.Normal(j);
+                          const double d = normal.dot(v);
+                          if (std::abs(d) < config.strong_normal_cosine) {
+                            normal -= d * v;
+                          } else {
+                            faces[j] = 1;
+                          }
+                        }
+                      });
+    // Searched pairs whose stored normal faces v (a shape's pairs already carry its normal).
+    std::vector<std::size_t> facing;
+    for (std::size_t j = 0; j < pairs.planar.size(); ++j) {
+      if (faces[j]) facing.push_back(j);
     }
-    StripFacingNormalsOnOtherPlanes(v, config.strong_normal_cosine, facing, shapes_around,
-                                    out.planar);
+    StripFacingNormalsOnOtherPlanes(v, config.strong_normal_cosine, facing, shapes_around, out);
   }
   return out;
 }
@@ -464,8 +499,9 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
     // Together, so that the point pairs' few blocks fill the threads the planar sum leaves idle.
     tbb::parallel_invoke(
         [&] {
-          system = PlanarSystem<N>(sorted.planar, std::vector<double>(sorted.planar.size(), 1.0),
-                                   alpha, kernel_scale, basis);
+          system = PlanarSystem<N>(
+              sorted.NumPlanar(), [&](std::size_t j) { return sorted.Planar(j); }, nullptr, alpha,
+              kernel_scale, basis);
         },
         [&] {
           point_system = PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
@@ -491,7 +527,12 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
                                            : Eigen::Matrix3d::Identity();
   NormalEquations<N> system, point_system;
   tbb::parallel_invoke(
-      [&] { system = PlanarSystem<N>(pairs.planar, weights, alpha, kernel_scale, basis); },
+      [&] {
+        system = PlanarSystem<N>(
+            pairs.planar.size(),
+            [&](std::size_t j) { return PlanarPairView{pairs.planar[j], pairs.planar[j].normal}; },
+            &weights, alpha, kernel_scale, basis);
+      },
       [&] {
         point_system = PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
       });
