@@ -24,11 +24,6 @@ struct SourceSubset {
   std::size_t stride = 1;
   bool complement = false;
   bool Contains(std::size_t i) const { return stride <= 1 || (i % stride == 0) != complement; }
-  std::size_t CountOf(std::size_t n) const {
-    if (stride <= 1) return n;
-    const std::size_t every_kth = (n + stride - 1) / stride;
-    return complement ? n - every_kth : every_kth;
-  }
 };
 
 struct CorrespondenceSet {

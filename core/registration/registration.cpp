@@ -487,36 +487,42 @@ void MoveSources(const Eigen::Isometry3d& T, const InScanVector<K>& in_scan_step
   }
 }
 
-// The data's normal equations for this iteration's pairs (N > 6: with the in-scan motion).
+// Full mode with a weak direction: the pairs sorted by WeakAware; lower triangle only.
 template <int N>
-NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyReport& planar_report,
-                              bool weak_aware, bool weighted, double alpha, double kernel_scale,
-                              const RegistrationConfig& config, ShapeCache& shapes_around,
-                              const InScanBasis& basis) {
-  if (weak_aware) {
-    const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
-    NormalEquations<N> system, point_system, unjudged_system;
-    // Together, so that the point pairs' few blocks fill the threads the planar sum leaves idle.
-    tbb::parallel_invoke(
-        [&] {
-          system = PlanarSystem<N>(
-              sorted.NumPlanar(), [&](std::size_t j) { return sorted.Planar(j); }, nullptr, alpha,
-              kernel_scale, basis);
-        },
-        [&] {
-          point_system = PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
-                                        kernel_scale, basis);
-        },
-        [&] {
-          // basis.point_metric projects the weak directions out.
-          unjudged_system = PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric,
-                                           kernel_scale, basis);
-        });
-    system += point_system;
-    system += unjudged_system;
-    system.MirrorLowerTriangle();
-    return system;
-  }
+NormalEquations<N> WeakAwareSystem(const CorrespondenceSet& pairs,
+                                   const DegeneracyReport& planar_report, double alpha,
+                                   double kernel_scale, const RegistrationConfig& config,
+                                   ShapeCache& shapes_around, const InScanBasis& basis) {
+  const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
+  NormalEquations<N> system, point_system, unjudged_system;
+  // Together, so that the point pairs' few blocks fill the threads the planar sum leaves idle.
+  tbb::parallel_invoke(
+      [&] {
+        system = PlanarSystem<N>(
+            sorted.NumPlanar(), [&](std::size_t j) { return sorted.Planar(j); }, nullptr, alpha,
+            kernel_scale, basis);
+      },
+      [&] {
+        point_system = PointSystem<N>(sorted.point, 1.0 - alpha, Eigen::Matrix3d::Identity(),
+                                      kernel_scale, basis);
+      },
+      [&] {
+        // basis.point_metric projects the weak directions out.
+        unjudged_system = PointSystem<N>(sorted.unjudged, 1.0 - alpha, basis.point_metric,
+                                         kernel_scale, basis);
+      });
+  system += point_system;
+  system += unjudged_system;
+  return system;
+}
+
+// The other modes, and full mode without a weak direction: the paper's degeneracy weights
+// where they apply; lower triangle only.
+template <int N>
+NormalEquations<N> WeightedSystem(const CorrespondenceSet& pairs,
+                                  const DegeneracyReport& planar_report, bool weighted,
+                                  double alpha, double kernel_scale,
+                                  const RegistrationConfig& config, const InScanBasis& basis) {
   // Weighting trades information for robustness; a well-conditioned scene has nothing to
   // gain from it, so by default it starts where the analysis finds a degenerate direction.
   const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
@@ -537,6 +543,20 @@ NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyRe
         point_system = PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
       });
   system += point_system;
+  return system;
+}
+
+// The data's normal equations for this iteration's pairs (N > 6: with the in-scan motion).
+template <int N>
+NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyReport& planar_report,
+                              bool weak_aware, bool weighted, double alpha, double kernel_scale,
+                              const RegistrationConfig& config, ShapeCache& shapes_around,
+                              const InScanBasis& basis) {
+  NormalEquations<N> system =
+      weak_aware ? WeakAwareSystem<N>(pairs, planar_report, alpha, kernel_scale, config,
+                                      shapes_around, basis)
+                 : WeightedSystem<N>(pairs, planar_report, weighted, alpha, kernel_scale, config,
+                                     basis);
   system.MirrorLowerTriangle();
   return system;
 }

@@ -132,7 +132,6 @@ TEST(Correspondences, StridePairsEveryKthSourcePoint) {
   const CorrespondenceSet strided =
       FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, true, {}, every_third);
   ASSERT_EQ(strided.planar.size(), 4u);  // points 0, 3, 6, 9
-  EXPECT_EQ(every_third.CountOf(source.size()), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
     EXPECT_DOUBLE_EQ(strided.planar[k].source.x(), 0.6 * static_cast<double>(3 * k));
     EXPECT_DOUBLE_EQ(strided.planar[k].target.x(), strided.planar[k].source.x());
@@ -141,7 +140,6 @@ TEST(Correspondences, StridePairsEveryKthSourcePoint) {
   const CorrespondenceSet others =
       FindCorrespondences(source, labels, map, 1.0, RegistrationMode::kFull, true, {}, the_others);
   ASSERT_EQ(others.planar.size(), 6u);  // points 1, 2, 4, 5, 7, 8
-  EXPECT_EQ(the_others.CountOf(source.size()), 6u);
   for (const Correspondence& c : others.planar) {
     EXPECT_NE(static_cast<int>(std::lround(c.source.x() / 0.6)) % 3, 0);
   }
