@@ -282,18 +282,13 @@ class ShapeCache {
   // The shapes around target_of(0), ..., target_of(n - 1), in this order.
   template <typename TargetOf>
   std::vector<const LocalShape*> Lookup(std::size_t n, TargetOf target_of) {
-    std::vector<const LocalShape*> out(n, nullptr);
+    std::vector<std::size_t> shape_of(n);  // index into shapes_, known when first seen
     std::vector<Voxel> missing;
-    std::vector<std::size_t> waiting;  // targets whose voxel is in `missing`
     for (std::size_t i = 0; i < n; ++i) {
       const Voxel voxel = PointToVoxel(target_of(i), map_.voxel_size());
       const auto [it, added] = index_.try_emplace(voxel, shapes_.size() + missing.size());
       if (added) missing.push_back(voxel);
-      if (it->second < shapes_.size()) {
-        out[i] = &shapes_[it->second];
-      } else {
-        waiting.push_back(i);
-      }
+      shape_of[i] = it->second;
     }
     const std::size_t first_new = shapes_.size();
     for (std::size_t i = 0; i < missing.size(); ++i) shapes_.emplace_back();  // keeps references
@@ -303,9 +298,8 @@ class ShapeCache {
                           shapes_[first_new + i] = ShapeAround(map_, Centre(missing[i]), config_);
                         }
                       });
-    for (std::size_t i : waiting) {
-      out[i] = &shapes_[index_.find(PointToVoxel(target_of(i), map_.voxel_size()))->second];
-    }
+    std::vector<const LocalShape*> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = &shapes_[shape_of[i]];
     return out;
   }
 
@@ -526,8 +520,8 @@ NormalEquations<N> WeightedSystem(const CorrespondenceSet& pairs,
   // Weighting trades information for robustness; a well-conditioned scene has nothing to
   // gain from it, so by default it starts where the analysis finds a degenerate direction.
   const bool weigh = weighted && (config.weight_always || planar_report.AnyDegenerate());
-  const std::vector<double> weights = weigh ? DegeneracyWeights(pairs.planar, planar_report)
-                                            : std::vector<double>(pairs.planar.size(), 1.0);
+  const std::vector<double> weights =
+      weigh ? DegeneracyWeights(pairs.planar, planar_report) : std::vector<double>{};
   const Eigen::Matrix3d point_metric = weigh && config.weight_point_residuals
                                            ? PointResidualMetric(planar_report)
                                            : Eigen::Matrix3d::Identity();
@@ -537,7 +531,7 @@ NormalEquations<N> WeightedSystem(const CorrespondenceSet& pairs,
         system = PlanarSystem<N>(
             pairs.planar.size(),
             [&](std::size_t j) { return PlanarPairView{pairs.planar[j], pairs.planar[j].normal}; },
-            &weights, alpha, kernel_scale, basis);
+            weigh ? &weights : nullptr, alpha, kernel_scale, basis);
       },
       [&] {
         point_system = PointSystem<N>(pairs.point, 1.0 - alpha, point_metric, kernel_scale, basis);
