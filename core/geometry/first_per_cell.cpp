@@ -4,16 +4,24 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <optional>
+#include <array>
 
 namespace dammloam {
 namespace {
 
+constexpr std::uint64_t kMix = 0x9E3779B97F4A7C15ULL;
+constexpr std::size_t kBlock = 4096;  // points per block of the parallel passes
+
 // The tables index buckets by the hash's low bits; partitions take the top bits of a mixed
 // copy, or each table would fill only a quarter of its buckets.
 std::uint8_t PartitionOf(const ClassVoxel& cell) {
-  constexpr std::uint64_t kMix = 0x9E3779B97F4A7C15ULL;
   return static_cast<std::uint8_t>((std::uint64_t{ClassVoxelHash{}(cell)} * kMix) >> 62);
+}
+
+// A cache slot from bits that neither the partition (top) nor the tables (low) use.
+std::size_t RecentSlotOf(const ClassVoxel& cell, std::size_t slots) {
+  return static_cast<std::size_t>((std::uint64_t{ClassVoxelHash{}(cell)} * kMix) >> 40) &
+         (slots - 1);
 }
 
 }  // namespace
@@ -22,20 +30,48 @@ std::vector<std::size_t> FirstPerCell::Select(
     const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
     const std::array<double, kNumPointClasses>& voxel_sizes) {
   const std::size_t n = points.size();
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
   cells_.resize(n);
   partition_.resize(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+  // Per block, how many of its points each partition holds.
+  std::vector<std::array<std::size_t, kPartitions>> counts(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    counts[b].fill(0);
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
       const std::size_t c = std::min<std::size_t>(Index(label), kNumPointClasses - 1);
       cells_[i] = {PointToVoxel(points[i], voxel_sizes[c]), label};
       partition_[i] = PartitionOf(cells_[i]);
+      ++counts[b][partition_[i]];
+    }
+  });
+  // Each partition's points, contiguous and in input order: block b's points of partition p
+  // start after those of the earlier partitions and of p's earlier blocks.
+  std::size_t offset = 0;
+  for (std::size_t p = 0; p < kPartitions; ++p) {
+    partition_start_[p] = offset;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t count = counts[b][p];
+      counts[b][p] = offset;  // from here on: where block b's points of p go
+      offset += count;
+    }
+  }
+  partition_start_[kPartitions] = offset;
+  ordered_.resize(n);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    std::array<std::size_t, kPartitions> next = counts[b];
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      ordered_[next[partition_[i]]++] = {cells_[i], static_cast<std::uint32_t>(i)};
     }
   });
   kept_.assign(n, 0);
   tbb::parallel_for(std::size_t{0}, kPartitions, [&](std::size_t p) { KeepFirstOfPartition(p); });
-  // The kept indices in order, gathered block by block by all threads.
-  constexpr std::size_t kBlock = 4096;
+  return GatherKept();
+}
+
+// The kept indices in order, gathered block by block by all threads.
+std::vector<std::size_t> FirstPerCell::GatherKept() const {
+  const std::size_t n = kept_.size();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::size_t> start(blocks + 1, 0);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
@@ -57,15 +93,20 @@ std::vector<std::size_t> FirstPerCell::Select(
 void FirstPerCell::KeepFirstOfPartition(std::size_t partition) {
   auto& seen = seen_[partition];
   seen.clear();  // keeps the buckets
-  seen.reserve(cells_.size() / (4 * kPartitions) + 1);
-  // Consecutive points (one firing, top to bottom) often share a cell; a repeat of the
-  // partition's previous cell cannot be kept whatever the table says, so it skips the lookup.
-  std::optional<ClassVoxel> previous;
-  for (std::size_t i = 0; i < cells_.size(); ++i) {
-    if (partition_[i] != partition) continue;
-    if (previous == cells_[i]) continue;
-    previous = cells_[i];
-    if (seen.insert(cells_[i]).second) kept_[i] = 1;
+  const std::size_t begin = partition_start_[partition], end = partition_start_[partition + 1];
+  seen.reserve((end - begin) / 4 + 1);
+  // Neighbouring firings mostly revisit the cells the last few firings filled. A small
+  // direct-mapped cache of cells already in the table (L1-resident, unlike the table) answers
+  // those without a table lookup; it only ever holds seen cells, so a hit is never a new cell.
+  constexpr std::size_t kRecent = 512;
+  std::array<ClassVoxel, kRecent> recent;
+  recent.fill(ClassVoxel{Voxel::Zero(), static_cast<PointClass>(0xff)});  // no class's cell
+  for (std::size_t k = begin; k < end; ++k) {
+    const ClassVoxel& cell = ordered_[k].cell;
+    ClassVoxel& slot = recent[RecentSlotOf(cell, kRecent)];
+    if (slot == cell) continue;
+    slot = cell;
+    if (seen.insert(cell).second) kept_[ordered_[k].index] = 1;
   }
 }
 

@@ -99,12 +99,11 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
   const double inherit2 =
       config_.range_image.max_inherit_distance * config_.range_image.max_inherit_distance;
   const auto& pixel_normals = normal_map.normals();
-  const int cols = image.cols();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const int pixel = image.pixel_of(i);
       if (pixel < 0) continue;
-      const int winner = image.index(pixel / cols, pixel % cols);
+      const int winner = image.index_of_pixel(pixel);
       if (winner != static_cast<int>(i) &&
           (points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2) {
         continue;

@@ -33,6 +33,7 @@ class RangeImage {
   int cols() const { return cols_; }
   // Index of the point that owns pixel (r, c), -1 if empty.
   int index(int r, int c) const { return index_[Flat(r, c)]; }
+  int index_of_pixel(int pixel) const { return index_[pixel]; }  // the same, by flat pixel
   float range(int r, int c) const { return pixels_[Flat(r, c)].range; }  // 0 if empty
   // The owning point (a single-precision copy, contiguous for the normal map); zero if empty.
   const Eigen::Vector3f& point(int r, int c) const { return pixels_[Flat(r, c)].point; }
