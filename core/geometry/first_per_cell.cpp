@@ -36,14 +36,25 @@ std::vector<std::size_t> FirstPerCell::Select(
   // Per block, how many of its points each partition holds.
   std::vector<std::array<std::size_t, kPartitions>> counts(blocks);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    counts[b].fill(0);
-    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+    const std::size_t end = std::min(n, (b + 1) * kBlock);
+    ClassVoxel* const cells = cells_.data();
+    std::uint8_t* const partition = partition_.data();
+    // Counted in registers: an increment in memory per point waited on the previous one's
+    // store whenever neighbouring points share a partition (mostly: they share a cell).
+    std::size_t count[kPartitions] = {0, 0, 0, 0};
+    static_assert(kPartitions == 4);
+    for (std::size_t i = b * kBlock; i < end; ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
       const std::size_t c = std::min<std::size_t>(Index(label), kNumPointClasses - 1);
-      cells_[i] = {PointToVoxel(points[i], voxel_sizes[c]), label};
-      partition_[i] = PartitionOf(cells_[i]);
-      ++counts[b][partition_[i]];
+      cells[i] = {PointToVoxel(points[i], voxel_sizes[c]), label};
+      const std::uint8_t p = PartitionOf(cells[i]);
+      partition[i] = p;
+      count[0] += p == 0;
+      count[1] += p == 1;
+      count[2] += p == 2;
+      count[3] += p == 3;
     }
+    std::copy(count, count + kPartitions, counts[b].begin());
   });
   // Each partition's points, contiguous and in input order: block b's points of partition p
   // start after those of the earlier partitions and of p's earlier blocks.

@@ -2,6 +2,9 @@
 
 #include "core/map/map_config.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,14 +28,15 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
                           const Eigen::Isometry3d& T_world_sensor) {
   const bool has_normals = normals.size() == points.size();
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
-  std::vector<MapPoint> world;
-  world.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
-    const Eigen::Vector3f n = has_normals ? Eigen::Vector3f(R * normals[i])
-                                          : Eigen::Vector3f::Zero();
-    world.push_back({T_world_sensor * points[i], n, label});
-  }
+  std::vector<MapPoint> world(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
+      const Eigen::Vector3f n = has_normals ? Eigen::Vector3f(R * normals[i])
+                                            : Eigen::Vector3f::Zero();
+      world[i] = {T_world_sensor * points[i], n, label};
+    }
+  });
   AddPoints(world);
   // Cropping walks the whole map; the map only outgrows its radius by the distance travelled
   // since the last crop, so cropping after every 5% of the radius bounds memory just as well.
