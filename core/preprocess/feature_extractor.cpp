@@ -94,28 +94,28 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
 
   start = std::chrono::steady_clock::now();
   const std::vector<PointClass> pixel_labels = classifier_.Classify(normal_map, R_world_sensor);
-  out.labels.assign(n, PointClass::Unknown);
-  out.normals.assign(n, Eigen::Vector3f::Zero());
+  out.labels.resize(n);
+  out.normals.resize(n);
   const double inherit2 =
       config_.range_image.max_inherit_distance * config_.range_image.max_inherit_distance;
   const auto& pixel_normals = normal_map.normals();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      const int pixel = image.pixel_of(i);
-      if (pixel < 0) continue;
-      const int winner = image.index_of_pixel(pixel);
-      if (winner != static_cast<int>(i) &&
-          (points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2) {
-        continue;
-      }
-      out.labels[i] = pixel_labels[static_cast<std::size_t>(pixel)];
-      out.normals[i] = pixel_normals[static_cast<std::size_t>(pixel)];
-    }
-  });
+  // Every point's label and normal written once (no zero fill first), counted on the way.
   out.class_counts = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, n, 4096), ClassCounts{},
       [&](const tbb::blocked_range<std::size_t>& range, ClassCounts counts) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i) ++counts[Index(out.labels[i])];
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          const int pixel = image.pixel_of(i);
+          const int winner = pixel < 0 ? -1 : image.index_of_pixel(pixel);
+          const bool labelled =
+              winner == static_cast<int>(i) ||
+              (winner >= 0 &&
+               !((points[i] - points[static_cast<std::size_t>(winner)]).squaredNorm() > inherit2));
+          out.labels[i] =
+              labelled ? pixel_labels[static_cast<std::size_t>(pixel)] : PointClass::Unknown;
+          out.normals[i] = labelled ? pixel_normals[static_cast<std::size_t>(pixel)]
+                                    : Eigen::Vector3f::Zero();
+          ++counts[Index(out.labels[i])];
+        }
         return counts;
       },
       [](ClassCounts a, const ClassCounts& b) {
