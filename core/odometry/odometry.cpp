@@ -304,12 +304,18 @@ RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrio
 // get the points where the registration put them.
 void Odometry::CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const {
   const double period = sensor_.scan_period;
+  const bool turns = !reg.scan_angular_acceleration.isZero(0.0);
   if (!reg.scan_twist.isZero(0.0)) {
     const Eigen::Isometry3d T_mid_start = ExpSE3(-0.5 * period * reg.scan_twist);
-    DeskewScan(frame.scan, ExpSE3(period * reg.scan_twist), period, T_mid_start);
+    const Eigen::Isometry3d T_start_end = ExpSE3(period * reg.scan_twist);
+    if (turns) {
+      DeskewAndTurn(frame.scan, T_start_end, period, T_mid_start, reg.scan_angular_acceleration,
+                    reg.scan_mean_time_sq);
+    } else {
+      DeskewScan(frame.scan, T_start_end, period, T_mid_start);
+    }
     frame.T_mid_start = T_mid_start * frame.T_mid_start;
-  }
-  if (!reg.scan_angular_acceleration.isZero(0.0)) {
+  } else if (turns) {
     TurnByAngularAcceleration(frame.scan, reg.scan_angular_acceleration, period,
                               reg.scan_mean_time_sq);
   }

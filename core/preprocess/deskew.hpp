@@ -22,4 +22,10 @@ void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, doub
 void TurnByAngularAcceleration(ClassifiedScan& scan, const Eigen::Vector3d& angular_acceleration,
                                double scan_period, double mean_time_sq);
 
+// DeskewScan, then TurnByAngularAcceleration, in one pass over the points: the same arithmetic
+// per point (the same result to the bit), half the memory traffic.
+void DeskewAndTurn(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period,
+                   const Eigen::Isometry3d& T_out_start,
+                   const Eigen::Vector3d& angular_acceleration, double mean_time_sq);
+
 }  // namespace dammloam
