@@ -23,4 +23,8 @@ void ReturnFreedMemory();
 // beyond `keep_free_bytes` as soon as it is freed. glibc only; elsewhere a no-op.
 void ReturnFreedMemoryEagerly(std::size_t keep_free_bytes);
 
+// dammloamd's setting: 8 MiB free per arena absorbs one scan's buffers. The offline runner and
+// the odometry benchmark use it too, so that their per-scan times are the daemon's.
+inline constexpr std::size_t kDaemonKeepFreeBytes = std::size_t{8} << 20;
+
 }  // namespace dammloam::io

@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
   }
 
   // A save's copy of the map or a loop check's clouds must not stay resident for the
-  // daemon's lifetime; 8 MiB free per arena absorbs one scan's buffers.
-  dammloam::io::ReturnFreedMemoryEagerly(std::size_t{8} << 20);
+  // daemon's lifetime.
+  dammloam::io::ReturnFreedMemoryEagerly(dammloam::io::kDaemonKeepFreeBytes);
 
   // Block the stop signals in every thread (Cyclone's included); main waits for them below.
   sigset_t stop_signals;
