@@ -131,6 +131,62 @@ TEST(Simulator, RejectsARecessWithoutDepth) {
   }
 }
 
+// Where a point's azimuth lies within its range-image column, as a fraction in [0, 1): column
+// c of N spans azimuths pi - 2 pi (c + 1) / N .. pi - 2 pi c / N, turning clockwise.
+double PositionInColumn(const Eigen::Vector3d& p, int columns) {
+  const double turns = (kPi - std::atan2(p.y(), p.x())) / (2.0 * kPi) * columns;
+  return turns - std::floor(turns);
+}
+
+// Distance of a position in a column from the column's boundary, in columns (0 .. 0.5).
+double FromBoundary(double position) { return std::min(position, 1.0 - position); }
+
+TEST(Simulator, FiringPhaseMovesEveryFiringWithinItsColumn) {
+  const SensorSpec sensor = SmallOs1();
+  SimOptions midway = Options(0.0);
+  midway.firing_phase = 0.5;
+  const Scan locked = Simulator(SceneKind::Zigzag, sensor, Options(0.0)).SimulateScan(3);
+  const Scan shifted = Simulator(SceneKind::Zigzag, sensor, midway).SimulateScan(3);
+  ASSERT_GT(locked.size(), 10000u);
+  ASSERT_GT(shifted.size(), 10000u);
+  double worst_locked = 0.0, worst_shifted = 0.5;
+  for (const Eigen::Vector3d& p : locked.points) {
+    worst_locked = std::max(worst_locked, FromBoundary(PositionInColumn(p, sensor.columns)));
+  }
+  for (const Eigen::Vector3d& p : shifted.points) {
+    worst_shifted = std::min(worst_shifted, FromBoundary(PositionInColumn(p, sensor.columns)));
+  }
+  EXPECT_LT(worst_locked, 1e-6);  // every firing on a boundary
+  EXPECT_GT(worst_shifted, 0.5 - 1e-6);  // every firing midway between two
+  for (const double bad : {1.0, -0.5, 2.0, std::numeric_limits<double>::quiet_NaN()}) {
+    SimOptions options = Options(0.0);
+    options.firing_phase = bad;
+    EXPECT_THROW(Simulator(SceneKind::Zigzag, sensor, options), std::invalid_argument) << bad;
+  }
+}
+
+TEST(Simulator, RandomFiringPhaseDiffersPerScanAndRepeatsPerSeed) {
+  const SensorSpec sensor = SmallOs1();
+  SimOptions random = Options(0.01);
+  random.firing_phase = kRandomFiringPhase;
+  const Simulator a(SceneKind::Zigzag, sensor, random), b(SceneKind::Zigzag, sensor, random);
+  std::vector<double> phases;
+  for (const int index : {0, 1, 2, 3, 4, 5}) {
+    const Scan scan = a.SimulateScan(index);
+    const Scan again = b.SimulateScan(index);
+    ASSERT_EQ(scan.points, again.points);
+    // One offset per scan: the first point's position holds for every point (noise is radial).
+    const double phase = PositionInColumn(scan.points.front(), sensor.columns);
+    for (const Eigen::Vector3d& p : scan.points) {
+      const double d = std::abs(PositionInColumn(p, sensor.columns) - phase);
+      ASSERT_LT(std::min(d, 1.0 - d), 1e-6);
+    }
+    phases.push_back(phase);
+  }
+  std::sort(phases.begin(), phases.end());
+  EXPECT_GT(phases.back() - phases.front(), 0.3);  // six draws from [0, 1)
+}
+
 TEST(Simulator, DropoutRemovesTheRequestedShare) {
   SimOptions with = Options(0.0);
   with.dropout = 0.3;

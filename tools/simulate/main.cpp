@@ -22,7 +22,7 @@ using namespace dammloam;
 
 struct Args {
   std::string scene, preset, sensor = "os1-64", out;
-  std::optional<std::string> motion, range_model;
+  std::optional<std::string> motion, range_model, firing_phase;
   std::optional<int> scans;
   std::optional<double> noise;
   sim::SimOptions sim;
@@ -92,6 +92,10 @@ int Run(const Args& a) {
     scans = *a.scans;
   }
   if (a.noise) options.noise_sigma = *a.noise;
+  if (a.firing_phase) {
+    options.firing_phase =
+        *a.firing_phase == "random" ? sim::kRandomFiringPhase : std::stod(*a.firing_phase);
+  }
   if (a.range_model) {
     options.full_range_reflectivity =
         *a.range_model == "realistic" ? sim::kRealisticFullRangeReflectivity : 0.0;
@@ -144,10 +148,12 @@ int Run(const Args& a) {
           : fmt::format("{}", options.speed > 0 ? options.speed : sim::DefaultSpeed(simulator.kind()));
   spdlog::info(
       "simulate: scene={}{} sensor={} ({}x{}) scans={} seed={} noise={} m speed={} m/s "
-      "recess depth={} m threads={} "
+      "recess depth={} m firing phase={} threads={} "
       "range={} points/scan median={:.0f} sim median {:.2f} ms/scan, start-end distance {:.2f} m -> {}",
       sim::SceneName(scene), a.preset.empty() ? "" : " preset=" + a.preset, spec.name, spec.rings(),
       spec.columns, scans, options.seed, options.noise_sigma, speed, options.recess_depth,
+      options.firing_phase == sim::kRandomFiringPhase ? std::string("random")
+                                                      : fmt::format("{}", options.firing_phase),
       options.threads == 0 ? std::string("auto") : std::to_string(options.threads),
       options.full_range_reflectivity > 0 ? "realistic" : "ideal", Median(points), Median(sim_ms),
       travelled.norm(), a.out);
@@ -201,6 +207,20 @@ int main(int argc, char** argv) {
                  "(the presets' 0.05: plain office doors)")
       ->check(CLI::Range(0.001, sim::kMaxRecessDepth))
       ->capture_default_str();
+  app.add_option("--firing-phase", a.firing_phase,
+                 "Where columns fire within a turn, in columns: 0 (default) exactly at k / "
+                 "columns, on the range image's column boundaries; a number in [0, 1): that "
+                 "offset; random: a fresh offset per scan (a free-running motor, as real sensors)")
+      ->check([](const std::string& v) -> std::string {
+        if (v == "random") return {};
+        try {
+          std::size_t used = 0;
+          const double x = std::stod(v, &used);
+          if (used == v.size() && x >= 0.0 && x < 1.0) return {};
+        } catch (const std::exception&) {
+        }
+        return "expected 'random' or a number in [0, 1), got '" + v + "'";
+      });
   app.add_option("--dropout", a.sim.dropout, "Probability that a return is lost")
       ->check(CLI::Range(0.0, 0.99))->capture_default_str();
   app.add_option("--speed", a.sim.speed,

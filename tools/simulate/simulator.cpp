@@ -57,6 +57,11 @@ Simulator::Simulator(SceneKind kind, SensorSpec sensor, SimOptions options)
   if (!(options_.dropout >= 0.0 && options_.dropout < 1.0)) {
     throw std::invalid_argument("dropout probability must be in [0, 1)");
   }
+  if (!(options_.firing_phase == kRandomFiringPhase ||
+        (options_.firing_phase >= 0.0 && options_.firing_phase < 1.0))) {
+    throw std::invalid_argument("firing phase must be in [0, 1) columns or random, got " +
+                                std::to_string(options_.firing_phase));
+  }
   const int rings = sensor_.rings();
   beam_dirs_.resize(static_cast<std::size_t>(sensor_.columns) * rings);
   for (int c = 0; c < sensor_.columns; ++c) {
@@ -115,15 +120,28 @@ double Simulator::ScanStartTime(int index) const {
 
 Eigen::Isometry3d Simulator::PoseAt(double t) const { return trajectory_.Pose(t - options_.t0); }
 
-void Simulator::SimulateColumn(int index, int column, double t_start, Return* out) const {
+double Simulator::FiringPhase(int index) const {
+  if (options_.firing_phase != kRandomFiringPhase) return options_.firing_phase;
+  // Its own stream (column -1), so the noise of every beam stays what it was.
+  return ColumnStream(options_.seed, index, -1).Uniform();
+}
+
+void Simulator::SimulateColumn(int index, int column, double t_start, double phase,
+                               Return* out) const {
   const Eigen::Isometry3d T_world_sensor = PoseAt(t_start + ColumnTime(sensor_, column));
+  // The sensor turns clockwise (azimuth falls with the column): a later phase is a smaller angle.
+  const Eigen::Matrix3d R_phase =
+      Eigen::AngleAxisd(-2.0 * std::numbers::pi * phase / sensor_.columns,
+                        Eigen::Vector3d::UnitZ())
+          .toRotationMatrix();
   SplitMix64 rng = ColumnStream(options_.seed, index, column);
   const int rings = sensor_.rings();
   for (int r = 0; r < rings; ++r) {
     // Draw both numbers for every beam so one beam's fate never shifts another's noise.
     const double noise = options_.noise_sigma * rng.Gaussian();
     const bool dropped = rng.Uniform() < options_.dropout;
-    const Eigen::Vector3d& dir = beam_dirs_[static_cast<std::size_t>(column) * rings + r];
+    const Eigen::Vector3d& column_dir = beam_dirs_[static_cast<std::size_t>(column) * rings + r];
+    const Eigen::Vector3d dir = phase == 0.0 ? column_dir : Eigen::Vector3d(R_phase * column_dir);
     const Ray ray{T_world_sensor.translation(), T_world_sensor.linear() * dir};
     const std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
     if (!hit || dropped || hit->t < sensor_.min_range) continue;
@@ -147,9 +165,10 @@ Scan Simulator::SimulateScan(int index) const {
   Scan scan;
   scan.t_start = ScanStartTime(index);
   std::vector<Return> returns(static_cast<std::size_t>(columns) * rings);
+  const double phase = FiringPhase(index);
   auto run = [&](int c0, int c1) {
     for (int c = c0; c < c1; ++c) {
-      SimulateColumn(index, c, scan.t_start, &returns[static_cast<std::size_t>(c) * rings]);
+      SimulateColumn(index, c, scan.t_start, phase, &returns[static_cast<std::size_t>(c) * rings]);
     }
   };
   if (options_.threads == 1) {

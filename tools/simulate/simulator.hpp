@@ -32,7 +32,15 @@ struct SimOptions {
   // Depth of the door recesses of the plain corridors (long-, endless-, straight-corridor),
   // metres, > 0: how much the only features along their axis stand out of the walls.
   double recess_depth = kShallowRecess;
+  // Where the columns fire within a turn, in columns: 0 fires column c at exactly c / columns
+  // of a turn, so every firing lies on a boundary of a range image with the sensor's column
+  // count, which no free-running motor does. In [0, 1): that fixed offset (0.5: midway).
+  // kRandomFiringPhase: a fresh offset per scan from the seed, as a motor whose phase drifts
+  // against the turn's start (a real Velodyne's or Ouster's azimuths).
+  double firing_phase = 0.0;
 };
+
+inline constexpr double kRandomFiringPhase = -1.0;
 
 // The full-range reflectivity of the realistic range model: white targets (90 %) at normal
 // incidence reach the sensor's max_range, a 10 % target a third of it (as OS1 data sheets).
@@ -75,7 +83,9 @@ class Simulator {
     float intensity = 0.0f;
     bool valid = false;
   };
-  void SimulateColumn(int index, int column, double t_start, Return* out) const;
+  // `phase`: the scan's firing offset in columns (SimOptions::firing_phase resolved).
+  void SimulateColumn(int index, int column, double t_start, double phase, Return* out) const;
+  double FiringPhase(int index) const;
 
   SceneKind kind_;
   SensorSpec sensor_;
