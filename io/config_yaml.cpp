@@ -85,6 +85,7 @@ void ReadRegistration(Section s, RegistrationConfig& c) {
   s.Get("weight_always", c.weight_always);
   s.Get("strong_normal_cosine", c.strong_normal_cosine);
   s.Get("point_flatness", c.point_flatness);
+  s.Get("judge_point_pairs_always", c.judge_point_pairs_always);
   s.Get("point_shape_min_points", c.point_shape_min_points);
   s.Get("line_normal_support", c.line_normal_support);
   s.Get("weak_eigenvalue_ratio", c.weak_eigenvalue_ratio);

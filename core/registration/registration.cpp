@@ -738,7 +738,8 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
     const DegeneracyReport planar_report = AnalyseTranslation(
         H_planar, fused ? config.weak_eigenvalue_ratio : config.degenerate_eigenvalue_ratio);
     const double alpha = Alpha(config.mode, pairs.planar.size(), pairs.point.size());
-    const bool weak_aware = fused && planar_report.AnyDegenerate();
+    const bool weak_aware =
+        fused && (config.judge_point_pairs_always || planar_report.AnyDegenerate());
     if (coarse && planar_report.AnyDegenerate()) {
       // Along a weak direction the few pairs facing it (a jamb, an end wall) are what observe
       // it, and a subset may miss them: the coarse pose then slid along the endless

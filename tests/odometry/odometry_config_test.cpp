@@ -74,6 +74,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(registration.unknown_defers_to_map);
   DAMMLOAM_EXPECT_SAME(registration.strong_normal_cosine);
   DAMMLOAM_EXPECT_SAME(registration.point_flatness);
+  DAMMLOAM_EXPECT_SAME(registration.judge_point_pairs_always);
   DAMMLOAM_EXPECT_SAME(registration.point_shape_min_points);
   DAMMLOAM_EXPECT_SAME(registration.line_normal_support);
   DAMMLOAM_EXPECT_SAME(registration.weak_eigenvalue_ratio);
