@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   o.loop_closure = !no_loop_closure;
   // The daemon's allocator thresholds: without them glibc maps and faults in a scan's large
-  // buffers afresh (~85 page faults per scan on a VLP-16), and --stats would time another
+  // buffers afresh (~77 more page faults per scan on a VLP-16), and --stats would time another
   // process than the one a robot runs.
   dammloam::io::ReturnFreedMemoryEagerly(dammloam::io::kDaemonKeepFreeBytes);
   try {

@@ -126,14 +126,9 @@ double Simulator::FiringPhase(int index) const {
   return ColumnStream(options_.seed, index, -1).Uniform();
 }
 
-void Simulator::SimulateColumn(int index, int column, double t_start, double phase,
-                               Return* out) const {
+void Simulator::SimulateColumn(int index, int column, double t_start,
+                               const std::optional<Eigen::Matrix3d>& R_phase, Return* out) const {
   const Eigen::Isometry3d T_world_sensor = PoseAt(t_start + ColumnTime(sensor_, column));
-  // The sensor turns clockwise (azimuth falls with the column): a later phase is a smaller angle.
-  const Eigen::Matrix3d R_phase =
-      Eigen::AngleAxisd(-2.0 * std::numbers::pi * phase / sensor_.columns,
-                        Eigen::Vector3d::UnitZ())
-          .toRotationMatrix();
   SplitMix64 rng = ColumnStream(options_.seed, index, column);
   const int rings = sensor_.rings();
   for (int r = 0; r < rings; ++r) {
@@ -141,7 +136,7 @@ void Simulator::SimulateColumn(int index, int column, double t_start, double pha
     const double noise = options_.noise_sigma * rng.Gaussian();
     const bool dropped = rng.Uniform() < options_.dropout;
     const Eigen::Vector3d& column_dir = beam_dirs_[static_cast<std::size_t>(column) * rings + r];
-    const Eigen::Vector3d dir = phase == 0.0 ? column_dir : Eigen::Vector3d(R_phase * column_dir);
+    const Eigen::Vector3d dir = R_phase ? Eigen::Vector3d(*R_phase * column_dir) : column_dir;
     const Ray ray{T_world_sensor.translation(), T_world_sensor.linear() * dir};
     const std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
     if (!hit || dropped || hit->t < sensor_.min_range) continue;
@@ -166,9 +161,15 @@ Scan Simulator::SimulateScan(int index) const {
   scan.t_start = ScanStartTime(index);
   std::vector<Return> returns(static_cast<std::size_t>(columns) * rings);
   const double phase = FiringPhase(index);
+  // The sensor turns clockwise (azimuth falls with the column): a later phase is a smaller angle.
+  std::optional<Eigen::Matrix3d> R_phase;
+  if (phase != 0.0) {
+    R_phase = Eigen::AngleAxisd(-2.0 * std::numbers::pi * phase / columns, Eigen::Vector3d::UnitZ())
+                  .toRotationMatrix();
+  }
   auto run = [&](int c0, int c1) {
     for (int c = c0; c < c1; ++c) {
-      SimulateColumn(index, c, scan.t_start, phase, &returns[static_cast<std::size_t>(c) * rings]);
+      SimulateColumn(index, c, scan.t_start, R_phase, &returns[static_cast<std::size_t>(c) * rings]);
     }
   };
   if (options_.threads == 1) {

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,8 +84,10 @@ class Simulator {
     float intensity = 0.0f;
     bool valid = false;
   };
-  // `phase`: the scan's firing offset in columns (SimOptions::firing_phase resolved).
-  void SimulateColumn(int index, int column, double t_start, double phase, Return* out) const;
+  // R_phase turns every beam by the scan's firing phase; empty: the columns fire on the image's
+  // column boundaries.
+  void SimulateColumn(int index, int column, double t_start,
+                      const std::optional<Eigen::Matrix3d>& R_phase, Return* out) const;
   double FiringPhase(int index) const;
 
   SceneKind kind_;
