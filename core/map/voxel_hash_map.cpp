@@ -70,6 +70,7 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
     if (block.points.size() == block.points.capacity()) {
       block.points.reserve(block.points.size() + kPointsPerGrowth);
     }
+    changes_.Add(PointToVoxel(p.position, voxel_size_), block);
     block.points.insert(block.points.begin() + block.begin[c + 1], p);
     for (std::size_t k = c + 1; k <= kNumPointClasses; ++k) ++block.begin[k];
     ++num_points_;
@@ -81,12 +82,34 @@ void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   for (auto it = map_.begin(); it != map_.end();) {
     const Eigen::Vector3d& p = it->second.points.front().position;
     if ((p - origin).squaredNorm() > max_sq) {
+      changes_.Add(it->first, it.value());
       num_points_ -= it->second.points.size();
       it = map_.erase(it);
     } else {
       ++it;
     }
   }
+}
+
+void VoxelHashMap::ChangeLog::Add(const Voxel& voxel, VoxelBlock& block) {
+  // Past this many, forgetting voxel by voxel costs more than starting over.
+  constexpr std::size_t kMaxListed = 1 << 16;
+  if (!listing || all || block.listed_in == list) return;
+  if (voxels.size() >= kMaxListed) {
+    Reset();
+    return;
+  }
+  block.listed_in = list;
+  voxels.push_back(voxel);
+}
+
+VoxelHashMap::Changes VoxelHashMap::TakeChanges() {
+  Changes out{changes_.all, std::move(changes_.voxels)};
+  changes_.voxels.clear();
+  changes_.all = false;
+  changes_.listing = true;
+  ++changes_.list;
+  return out;
 }
 
 namespace {

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -74,6 +75,16 @@ class VoxelHashMap {
   // there faces. Points without a normal are left out; `count` says how many had one.
   Eigen::Matrix3d NormalScatterOf(const Eigen::Vector3d& point, int& count) const;
 
+  // Where the map changed (points added, voxels cropped) since the last call: what a cache of
+  // answers about neighbourhoods must forget. `all`: everything may have changed (the first
+  // call, a Clear, a copy or a move, or more changes than are worth listing). Only maps asked
+  // keep the list.
+  struct Changes {
+    bool all = true;
+    std::vector<Voxel> voxels;  // each voxel changed at most once per list
+  };
+  Changes TakeChanges();
+
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const { return num_points_; }
   std::size_t NumVoxels() const { return map_.size(); }
@@ -82,6 +93,7 @@ class VoxelHashMap {
     map_.clear();
     num_points_ = 0;
     last_crop_origin_.reset();
+    changes_.Reset();
   }
   double voxel_size() const { return voxel_size_; }
   double max_distance() const { return max_distance_; }
@@ -93,6 +105,7 @@ class VoxelHashMap {
   struct VoxelBlock {
     std::vector<MapPoint> points;
     std::array<std::uint16_t, kNumPointClasses + 1> begin{};
+    std::uint32_t listed_in = 0;  // the ChangeLog::list this voxel was last put on
     const MapPoint* ClassBegin(std::size_t c) const { return points.data() + begin[c]; }
     const MapPoint* ClassEnd(std::size_t c) const { return points.data() + begin[c + 1]; }
   };
@@ -100,12 +113,38 @@ class VoxelHashMap {
   template <typename Visit>
   void ForEachPointAround(const Eigen::Vector3d& point, Visit visit) const;
 
+  // A copy or a move is another map to whoever cached answers about this one: it starts with
+  // `all`, and numbers its lists past every number its blocks may carry. Listing starts with
+  // the first TakeChanges.
+  struct ChangeLog {
+    ChangeLog() = default;
+    ChangeLog(const ChangeLog& other) : list(other.list + 1) {}
+    ChangeLog(ChangeLog&& other) noexcept : list(other.list + 1) {}
+    ChangeLog& operator=(const ChangeLog& other) { return Follow(other); }
+    ChangeLog& operator=(ChangeLog&& other) noexcept { return Follow(other); }
+    ChangeLog& Follow(const ChangeLog& other) {
+      Reset();
+      list = std::max(list, other.list) + 1;
+      return *this;
+    }
+    void Reset() {
+      all = true;
+      voxels.clear();
+    }
+    void Add(const Voxel& voxel, VoxelBlock& block);
+    bool listing = false;
+    bool all = true;
+    std::uint32_t list = 1;  // numbers the lists handed out, so a voxel is listed once per list
+    std::vector<Voxel> voxels;
+  };
+
   double voxel_size_;
   double max_distance_;
   int max_points_per_voxel_;
   tsl::robin_map<Voxel, VoxelBlock, VoxelHash> map_;
   std::size_t num_points_ = 0;
   std::optional<Eigen::Vector3d> last_crop_origin_;
+  ChangeLog changes_;
 };
 
 }  // namespace dammloam

@@ -286,7 +286,7 @@ RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   return reg;
 }
 
-RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior) const {
+RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior) {
   RegistrationConfig registration = config_.registration;
   // Degeneracy hysteresis: once a scan was degenerate, the next one is until the ratio
   // clears the (higher) release ratio.
@@ -294,9 +294,10 @@ RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrio
     registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
   }
   const double sigma = threshold_.Sigma();
+  map_shapes_.Forget(map_.TakeChanges());
   return RegisterScan(frame.source.points, frame.source.labels, map_, frame.T_guess,
                       kGateSigmas * sigma, sigma / kGateSigmas, registration, prior,
-                      frame.source.times);
+                      frame.source.times, &map_shapes_);
 }
 
 // Registration measured how the scan's own motion departs from the velocity it was deskewed

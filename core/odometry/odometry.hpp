@@ -80,7 +80,7 @@ class Odometry {
   double TimeStep(double t_start, OdometryStatus& status);
   Frame Deskew(ClassifiedScan&& scan) const;
   RegistrationResult RegisterFrame(Frame& frame, double dt);
-  RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior) const;
+  RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior);
   RegistrationResult RedeskewAndRegister(Frame& frame, const RegistrationResult& first, double dt);
   Eigen::Isometry3d StartPose(const Frame& frame, const Eigen::Isometry3d& T_mid,
                               bool first) const;
@@ -98,6 +98,7 @@ class Odometry {
   ClassAwareDownsampler downsampler_;
   ClassVoxelSampler map_sampler_;
   VoxelHashMap map_;
+  ShapeCache map_shapes_;  // the shapes registration judged on map_, kept while map_ keeps them
   AdaptiveThreshold threshold_;
   bool initialised_ = false;
   double last_stamp_ = 0.0;

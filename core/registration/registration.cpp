@@ -6,7 +6,6 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -14,10 +13,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
-#include <tsl/robin_map.h>
 
 #include "core/registration/correspondences.hpp"
 #include "core/registration/degeneracy_weights.hpp"
+#include "core/registration/shape_cache.hpp"
 
 namespace dammloam {
 
@@ -229,89 +228,6 @@ struct WeakAwarePairs {
     if (j < n) return {searched_planar[j], searched_normals[j]};
     return {shaped[j - n], shaped[j - n].normal};
   }
-};
-
-struct LocalShape {
-  bool judged = false;  // the neighbourhood held enough map points to tell its shape
-  int planes = 0;  // 0: a structure; 1: a plane with normal n[0]; 2: a line, normal to n[0], n[1]
-  std::array<Eigen::Vector3d, 2> n;
-};
-
-// A line keeps a normal only where its points face it (see line_normal_support): one ring's
-// arc across a plane is a line of points that all face the plane's normal.
-void KeepFacedLineNormals(const VoxelHashMap& map, const Eigen::Vector3d& target,
-                          double min_support, LocalShape& shape) {
-  if (shape.planes != 2 || !(min_support > 0.0)) return;
-  int with_normal = 0;
-  const Eigen::Matrix3d faces = map.NormalScatterOf(target, with_normal);
-  if (with_normal < 3) return;  // nothing to judge by
-  const bool faced0 = shape.n[0].dot(faces * shape.n[0]) >= min_support;
-  const bool faced1 = shape.n[1].dot(faces * shape.n[1]) >= min_support;
-  if (faced0 == faced1) return;
-  shape.planes = 1;
-  if (faced1) shape.n[0] = shape.n[1];
-}
-
-LocalShape ShapeAround(const VoxelHashMap& map, const Eigen::Vector3d& target,
-                       const RegistrationConfig& config) {
-  LocalShape shape;
-  const VoxelHashMap::Neighbourhood hood = map.NeighbourhoodOf(target);
-  if (hood.count < std::max(config.point_shape_min_points, 3)) return shape;
-  shape.judged = true;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(hood.covariance);
-  const Eigen::Vector3d& lambda = eig.eigenvalues();  // ascending
-  const double sum = lambda.sum();
-  if (!(sum > 0.0)) return shape;
-  shape.n = {eig.eigenvectors().col(0), eig.eigenvectors().col(1)};
-  if (lambda(1) / sum < config.point_flatness) {
-    shape.planes = 2;
-  } else if (lambda(0) / sum < config.point_flatness) {
-    shape.planes = 1;
-  }
-  KeepFacedLineNormals(map, target, config.line_normal_support, shape);
-  return shape;
-}
-
-// The shape around a target depends only on its map voxel, and the map does not change during
-// one registration: later iterations, and pairs landing in one voxel, reuse it.
-class ShapeCache {
- public:
-  ShapeCache(const VoxelHashMap& map, const RegistrationConfig& config)
-      : map_(map), config_(config) {}
-
-  // The shapes around target_of(0), ..., target_of(n - 1), in this order.
-  template <typename TargetOf>
-  std::vector<const LocalShape*> Lookup(std::size_t n, TargetOf target_of) {
-    std::vector<std::size_t> shape_of(n);  // index into shapes_, known when first seen
-    std::vector<Voxel> missing;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Voxel voxel = PointToVoxel(target_of(i), map_.voxel_size());
-      const auto [it, added] = index_.try_emplace(voxel, shapes_.size() + missing.size());
-      if (added) missing.push_back(voxel);
-      shape_of[i] = it->second;
-    }
-    const std::size_t first_new = shapes_.size();
-    for (std::size_t i = 0; i < missing.size(); ++i) shapes_.emplace_back();  // keeps references
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, missing.size(), 16),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          shapes_[first_new + i] = ShapeAround(map_, Centre(missing[i]), config_);
-                        }
-                      });
-    std::vector<const LocalShape*> out(n);
-    for (std::size_t i = 0; i < n; ++i) out[i] = &shapes_[shape_of[i]];
-    return out;
-  }
-
- private:
-  Eigen::Vector3d Centre(const Voxel& v) const {
-    return (v.cast<double>().array() + 0.5).matrix() * map_.voxel_size();
-  }
-  const VoxelHashMap& map_;
-  const RegistrationConfig& config_;
-  tsl::robin_map<Voxel, std::size_t, VoxelHash> index_;  // into shapes_
-  // A deque: pointers handed out stay valid while later lookups append.
-  std::deque<LocalShape> shapes_;
 };
 
 // A stored normal is one pixel's estimate: near the sensor the range noise spans most of its
@@ -657,7 +573,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
                             const Eigen::Isometry3d& initial_guess,
                             double max_correspondence_distance, double kernel_scale,
                             const RegistrationConfig& config, const MotionPrior& prior,
-                            const std::vector<float>& source_times) {
+                            const std::vector<float>& source_times, ShapeCache* shape_cache) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
   std::vector<Eigen::Vector3d> source_world = source;
@@ -670,7 +586,9 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
-  ShapeCache shapes_around(map, config);
+  ShapeCache this_scan_only;
+  ShapeCache& shapes_around = shape_cache ? *shape_cache : this_scan_only;
+  shapes_around.Bind(map, config);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
   double mean_time_sq = 0.0;
   if constexpr (K > 0) {
@@ -854,17 +772,18 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 double max_correspondence_distance, double kernel_scale,
                                 const RegistrationConfig& config,
                                 const MotionPrior& prior,
-                                const std::vector<float>& source_times) {
+                                const std::vector<float>& source_times,
+                                ShapeCache* shape_cache) {
   switch (InScanUnknowns(config, prior, source_times, source.size())) {
     case 9:
       return Register<9>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times);
+                         kernel_scale, config, prior, source_times, shape_cache);
     case 6:
       return Register<6>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times);
+                         kernel_scale, config, prior, source_times, shape_cache);
     default:
       return Register<0>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times);
+                         kernel_scale, config, prior, source_times, shape_cache);
   }
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <limits>
 #include <random>
 
@@ -140,6 +141,50 @@ TEST(VoxelHashMap, NeighbourhoodOfAPlaneGivesItsNormal) {
   // Points beyond the 27 voxels do not count: the neighbourhood spans at most 1.5 m per axis.
   EXPECT_LT(hood.covariance.trace(), 3 * 0.75 * 0.75);
   EXPECT_EQ(map.NeighbourhoodOf({0.0, 10.0, 10.0}).count, 0);
+}
+
+std::vector<Voxel> Sorted(std::vector<Voxel> voxels) {
+  std::sort(voxels.begin(), voxels.end(), [](const Voxel& a, const Voxel& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  });
+  return voxels;
+}
+
+// What a cache of neighbourhood answers must forget: every voxel that gained a point or was
+// cropped, once per list, and nothing that only refused a point; a new, copied, moved or
+// cleared map may have changed anywhere.
+TEST(VoxelHashMap, TakeChangesListsEveryChangedVoxelOnce) {
+  VoxelHashMap map(1.0, 10.0, 2);
+  EXPECT_TRUE(map.TakeChanges().all);  // nothing known about it yet
+  map.AddPoints({{{0.1, 0.1, 0.1}, {0, 0, 1}, PointClass::Ground},
+                 {{0.9, 0.9, 0.1}, {0, 0, 1}, PointClass::Ground},    // same voxel again
+                 {{2.5, 0.5, 0.5}, {0, 1, 0}, PointClass::Wall}});
+  VoxelHashMap::Changes changes = map.TakeChanges();
+  EXPECT_FALSE(changes.all);
+  EXPECT_EQ(Sorted(changes.voxels), (std::vector<Voxel>{{0, 0, 0}, {2, 0, 0}}));
+  EXPECT_TRUE(map.TakeChanges().voxels.empty());  // taken: the next list starts empty
+  // The ground voxel is full (2 per class): a third ground point changes nothing.
+  map.AddPoints({{{0.5, 0.5, 0.9}, {0, 0, 1}, PointClass::Ground}});
+  EXPECT_TRUE(map.TakeChanges().voxels.empty());
+  map.AddPoints({{{0.5, 0.5, 0.9}, {0, 1, 0}, PointClass::Wall}});  // another class: added
+  EXPECT_EQ(map.TakeChanges().voxels, (std::vector<Voxel>{{0, 0, 0}}));
+  // The sensor at x = 11.5 m: the voxel at the origin lies beyond 10 m and is cropped.
+  map.Update({}, {}, {}, test::MakePose(11.5, 0.0, 0.0, 0, 0, 0));
+  changes = map.TakeChanges();
+  EXPECT_FALSE(changes.all);
+  EXPECT_EQ(changes.voxels, (std::vector<Voxel>{{0, 0, 0}}));
+  EXPECT_EQ(map.NumVoxels(), 1u);
+  VoxelHashMap copy = map;
+  EXPECT_TRUE(copy.TakeChanges().all);
+  VoxelHashMap moved = std::move(copy);
+  EXPECT_TRUE(moved.TakeChanges().all);
+  map = moved;
+  EXPECT_TRUE(map.TakeChanges().all);
+  // A block copied in carries the copy's list numbers: it is still listed when it changes.
+  map.AddPoints({{{2.05, 0.05, 0.95}, {0, 1, 0}, PointClass::Wall}});
+  EXPECT_EQ(map.TakeChanges().voxels, (std::vector<Voxel>{{2, 0, 0}}));
+  map.Clear();
+  EXPECT_TRUE(map.TakeChanges().all);
 }
 
 TEST(MapConfig, AutoVoxelSizeFollowsTheScene) {
