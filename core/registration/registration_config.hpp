@@ -66,11 +66,12 @@ struct RegistrationConfig {
   // Full mode: judge point pairs by their map neighbourhood's shape (as above) on every scan,
   // not only on scans with a weak direction. A point pair on a plane then counts as
   // point-to-plane wherever it is: paired with the few first-sighting points a voxel keeps, it
-  // otherwise follows their sampling pattern. Measured (README): the VLP-16 zigzag's forward
-  // drift of ~0.1 % of the distance falls (APE -9 to -28 % on five seeds with a drifting
-  // firing phase, RPE -1 to -3 %), campus APE -22 %; not yet the default, because the
-  // full-length table has not been re-run with it. false: the previous poses bit for bit.
-  bool judge_point_pairs_always = false;
+  // otherwise follows their sampling pattern. Measured (docs/measurements.md, 2026-11-28): the
+  // VLP-16 zigzag's forward drift of ~0.1 % of the distance falls (APE -9 to -28 % on every
+  // seed, RPE -1 to -3 %), campus APE -22 %, hand-held and tunnels within a few per cent
+  // either way; the wheeled VLP-16 corridor loses 0-15 % APE. false: judged only on scans with
+  // a weak direction (the release of 2026-11-27).
+  bool judge_point_pairs_always = true;
   // Full mode: a neighbourhood of fewer map points than this is not judged (its pair stays a
   // point pair). A young map's neighbourhoods hold one ring or two: a single ring on a wall
   // fits a line facing up, a ring on the floor next to one on a wall a tilted plane, and, taken
