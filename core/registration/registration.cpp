@@ -1,7 +1,6 @@
 #include "core/registration/registration.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <array>
