@@ -29,15 +29,19 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
   const bool has_normals = normals.size() == points.size();
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
   std::vector<MapPoint> world(points.size());
+  // The voxels too, here in parallel: insertion is serial, and it needed each point's voxel
+  // twice (the lookup and the change log), three divisions and floors each time.
+  std::vector<Voxel> voxels(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
       const Eigen::Vector3f n = has_normals ? Eigen::Vector3f(R * normals[i])
                                             : Eigen::Vector3f::Zero();
       world[i] = {T_world_sensor * points[i], n, label};
+      voxels[i] = PointToVoxel(world[i].position, voxel_size_);
     }
   });
-  AddPoints(world);
+  AddPoints(world, voxels);
   // Cropping walks the whole map; the map only outgrows its radius by the distance travelled
   // since the last crop, so cropping after every 5% of the radius bounds memory just as well.
   constexpr double kCropAfterShareOfRadius = 0.05;
@@ -50,15 +54,25 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
 }
 
 void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
+  std::vector<Voxel> voxels(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    voxels[i] = PointToVoxel(points[i].position, voxel_size_);
+  }
+  AddPoints(points, voxels);
+}
+
+void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points,
+                             const std::vector<Voxel>& voxels) {
   if (max_points_per_voxel_ < 1) return;  // would leave empty voxels behind
   // A point closer than voxel / sqrt(max points) to one of its class already in the voxel
   // adds nothing (as in KISS-ICP): the surface there is sampled. Without this, every revisit
   // adds near-duplicates until the voxel is full, and the map of a scene the sensor keeps
   // seeing grows for thousands of scans.
   const double min_spacing_sq = voxel_size_ * voxel_size_ / max_points_per_voxel_;
-  for (const MapPoint& p : points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const MapPoint& p = points[i];
     // One lookup; a new voxel always receives the point, so no block is left empty.
-    VoxelBlock& block = map_[PointToVoxel(p.position, voxel_size_)];
+    VoxelBlock& block = map_[voxels[i]];
     const std::size_t c = Index(p.label);
     if (block.ClassEnd(c) - block.ClassBegin(c) >= max_points_per_voxel_) continue;
     const bool sampled = std::any_of(block.ClassBegin(c), block.ClassEnd(c), [&](const MapPoint& q) {
@@ -70,7 +84,7 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points) {
     if (block.points.size() == block.points.capacity()) {
       block.points.reserve(block.points.size() + kPointsPerGrowth);
     }
-    changes_.Add(PointToVoxel(p.position, voxel_size_), block);
+    changes_.Add(voxels[i], block);
     block.points.insert(block.points.begin() + block.begin[c + 1], p);
     for (std::size_t k = c + 1; k <= kNumPointClasses; ++k) ++block.begin[k];
     ++num_points_;

@@ -99,6 +99,8 @@ class VoxelHashMap {
   double max_distance() const { return max_distance_; }
 
  private:
+  // AddPoints with each point's voxel already known (voxels[i] holds points[i]).
+  void AddPoints(const std::vector<MapPoint>& points, const std::vector<Voxel>& voxels);
   // One contiguous array per voxel, grouped by class so that a class-wise query scans only its
   // own class: class c is points[begin[c], begin[c + 1]). One allocation per voxel and small
   // hash buckets keep the 27-voxel search in cache.

@@ -585,8 +585,11 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
-  ShapeCache this_scan_only;
-  ShapeCache& shapes_around = shape_cache ? *shape_cache : this_scan_only;
+  // Odometry passes the cache it keeps across scans; a caller without one gets a cache for this
+  // scan only, built only then (an empty deque still allocates).
+  std::optional<ShapeCache> this_scan_only;
+  if (shape_cache == nullptr) this_scan_only.emplace();
+  ShapeCache& shapes_around = shape_cache ? *shape_cache : *this_scan_only;
   shapes_around.Bind(map, config);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
   double mean_time_sq = 0.0;
