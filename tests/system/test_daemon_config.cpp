@@ -100,6 +100,9 @@ TEST(DaemonConfig, CommandsAreOffByDefaultAndAnEnabledSectionIsChecked) {
   EXPECT_FALSE(shipped.enabled) << "off by default";
   EXPECT_TRUE(shipped.token.empty());
   EXPECT_TRUE(shipped.allowed_participants.empty());
+  // deploy/dammloamd.service's StateDirectory (test_deploy_unit); not checked while disabled, so
+  // the shipped file validates where /var/lib/dammloam does not exist.
+  EXPECT_EQ(shipped.map_root, "/var/lib/dammloam");
   EXPECT_FALSE(CommandsConfig{}.enabled);
 
   const test::TempDir temp_dir("config-commands");
