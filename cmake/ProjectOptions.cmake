@@ -13,7 +13,10 @@ endif()
 if(DAMMLOAM_TSAN)
   # -Wno-tsan: GCC warns for every libstdc++ atomic_thread_fence (TBB, moodycamel) that TSan
   # does not model them; the races they would hide are listed in tests/support/tsan.supp.
-  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer -Wno-tsan)
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    add_compile_options(-Wno-tsan)
+  endif()
   add_link_options(-fsanitize=thread)
 endif()
 
@@ -22,6 +25,9 @@ endif()
 function(dammloam_add_test)
   cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
+  # Test code itself is compiled at -O1: the code under test lives in the libraries (-O3), and
+  # gtest's macros at -O3 cost about 1.6x the compile time for nothing a test measures.
+  target_compile_options(${T_NAME} PRIVATE $<$<CONFIG:Release>:-O1>)
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main dammloam_options)
   target_compile_definitions(${T_NAME} PRIVATE
     DAMMLOAM_SHARED_DATA_DIR="${CMAKE_SOURCE_DIR}/../shared/data"

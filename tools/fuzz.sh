@@ -6,7 +6,8 @@
 #
 #   bash tools/fuzz.sh SECONDS [TARGET...]     targets: ouster velodyne pcap point_cloud map_store config
 #
-# Environment: FUZZ_BUILD_DIR (default build-fuzz), JOBS (build jobs, default 1).
+# Environment: FUZZ_BUILD_DIR (default build-asan, shared with tools/run-tests.sh), JOBS (build
+# jobs, default 1).
 # Per target: <build>/fuzz-work/<target>/{seeds,corpus,artifacts,fuzz.log,<target>.dict}; the
 # corpus is kept between runs. Exits non-zero when any target crashes (or a regression input
 # crashes again), printing the crash file. One summary line per target.
@@ -25,7 +26,7 @@ for t in "${TARGETS[@]}"; do
   [[ " ${ALL_TARGETS[*]} " == *" $t "* ]] || { echo "fuzz: unknown target '$t'" >&2; usage; }
 done
 
-BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
+BUILD=${FUZZ_BUILD_DIR:-build-asan}
 # UBSan reports with their stack (every report aborts: the build has -fno-sanitize-recover).
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 JOBS=${JOBS:-1}
@@ -33,10 +34,12 @@ for tool in clang-14 clang++-14; do
   command -v "$tool" >/dev/null || { echo "fuzz: $tool not found (bash deploy/install-deps.sh)" >&2; exit 1; }
 done
 
+# The ASan+UBSan build of tools/run-tests.sh (tools/sanitizer-builds.sh): when it ran before, only
+# the fuzz targets that are not up to date are built.
+source tools/sanitizer-builds.sh
 echo "== fuzz: configure + build ($BUILD, -j$JOBS): ${TARGETS[*]}"
 mkdir -p "$BUILD"
-CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DDAMMLOAM_FUZZ=ON >"$BUILD/configure.log" 2>&1 || { cat "$BUILD/configure.log" >&2; exit 1; }
+configure_asan "$BUILD" >"$BUILD/configure-fuzz.log" 2>&1 || { cat "$BUILD/configure-fuzz.log" >&2; exit 1; }
 build_targets=()
 for t in "${TARGETS[@]}"; do build_targets+=(--target "fuzz_$t"); done
 cmake --build "$BUILD" -j"$JOBS" "${build_targets[@]}"

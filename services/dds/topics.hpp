@@ -1,5 +1,5 @@
 #pragma once
-// Default topic names and the QoS of every dammloam topic (the README's topic table).
+// Default topic names and the QoS of every dammloam topic (the topic table of docs/topics.md).
 #include <string>
 
 #include "services/dds/dds.hpp"
