@@ -10,15 +10,19 @@
 # build-tsan (clang-14): ThreadSanitizer over the areas whose suites are labelled tsan.
 SANITIZER_CFLAGS="-O1 -g1 -DNDEBUG"
 
-configure_asan() {  # configure_asan BUILD_DIR
-  CC=clang-14 CXX=clang++-14 cmake -S . -B "$1" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+configure_clang() {  # configure_clang BUILD_DIR CMAKE_ARGS...
+  local dir=$1
+  shift
+  CC=clang-14 CXX=clang++-14 cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$SANITIZER_CFLAGS" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$SANITIZER_CFLAGS" \
-    -DDAMMLOAM_FUZZ=ON \
-    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system" >/dev/null
+    "$@" >/dev/null
+}
+
+configure_asan() {  # configure_asan BUILD_DIR
+  configure_clang "$1" -DDAMMLOAM_FUZZ=ON \
+    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system"
 }
 
 configure_tsan() {  # configure_tsan BUILD_DIR
-  CC=clang-14 CXX=clang++-14 cmake -S . -B "$1" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$SANITIZER_CFLAGS" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$SANITIZER_CFLAGS" \
-    -DDAMMLOAM_TSAN=ON -DDAMMLOAM_TEST_AREAS="system;odometry;backend" >/dev/null
+  configure_clang "$1" -DDAMMLOAM_TSAN=ON -DDAMMLOAM_TEST_AREAS="system;odometry;backend"
 }
