@@ -20,19 +20,27 @@ if(DAMMLOAM_TSAN)
   add_link_options(-fsanitize=thread)
 endif()
 
+# The compile flags every test executable shares (and tests/support's precompiled header with it).
+function(dammloam_test_flags target)
+  # Test code itself is compiled at -O1: the code under test lives in the libraries (-O3), and
+  # gtest's macros at -O3 cost about 1.6x the compile time for nothing a test measures.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  target_compile_definitions(${target} PRIVATE
+    DAMMLOAM_SHARED_DATA_DIR="${CMAKE_SOURCE_DIR}/../shared/data"
+    DAMMLOAM_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
+    DAMMLOAM_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+endfunction()
+
 # dammloam_add_test(NAME name SOURCES a.cpp... LIBS lib... [LABELS l...])
 # One GoogleTest executable per suite; tests are discovered so ctest lists each case.
 function(dammloam_add_test)
   cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
-  # Test code itself is compiled at -O1: the code under test lives in the libraries (-O3), and
-  # gtest's macros at -O3 cost about 1.6x the compile time for nothing a test measures.
-  target_compile_options(${T_NAME} PRIVATE $<$<CONFIG:Release>:-O1>)
+  dammloam_test_flags(${T_NAME})
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main dammloam_options)
-  target_compile_definitions(${T_NAME} PRIVATE
-    DAMMLOAM_SHARED_DATA_DIR="${CMAKE_SOURCE_DIR}/../shared/data"
-    DAMMLOAM_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
-    DAMMLOAM_BIN_DIR="${CMAKE_BINARY_DIR}/bin")
+  if(TARGET dammloam_test_pch)
+    target_precompile_headers(${T_NAME} REUSE_FROM dammloam_test_pch)
+  endif()
   set_target_properties(${T_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   # gtest_discover_tests loses list escaping, so several labels become one joined label
   # ("sanitize-tsan"); `ctest -L` takes a regex, so -L sanitize and -L tsan both select it.

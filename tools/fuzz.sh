@@ -7,7 +7,7 @@
 #   bash tools/fuzz.sh SECONDS [TARGET...]     targets: ouster velodyne pcap point_cloud map_store config
 #
 # Environment: FUZZ_BUILD_DIR (default build-asan, shared with tools/run-tests.sh), JOBS (build
-# jobs, default 1).
+# jobs and targets fuzzed at once, default 1).
 # Per target: <build>/fuzz-work/<target>/{seeds,corpus,artifacts,fuzz.log,<target>.dict}; the
 # corpus is kept between runs. Exits non-zero when any target crashes (or a regression input
 # crashes again), printing the crash file. One summary line per target.
@@ -92,20 +92,21 @@ DAMMLOAM_FUZZ_SCRATCH=$(mktemp -d "$scratch_base/dammloam-fuzz-run-XXXXXX")
 export DAMMLOAM_FUZZ_SCRATCH
 trap 'rm -rf "$DAMMLOAM_FUZZ_SCRATCH"' EXIT
 
-failed=0
-summaries=()
-for t in "${TARGETS[@]}"; do
-  bin="$BUILD/fuzz/fuzz_$t"
-  work="$BUILD/fuzz-work/$t"
+# fuzz_one TARGET: writes the target's summary line to <work>/summary; exits non-zero when it
+# crashed (or a kept input crashes again).
+fuzz_one() {
+  local t=$1 bin="$BUILD/fuzz/fuzz_$t" work="$BUILD/fuzz-work/$t"
   mkdir -p "$work/corpus" "$work/artifacts"
-  rm -rf "$work/seeds"
+  rm -rf "$work/seeds" "$work/summary"
   DAMMLOAM_FUZZ_SEEDS="$work/seeds" DAMMLOAM_FUZZ_SHARED_DATA="$SHARED" "$bin" >"$work/seeds.log" 2>&1 ||
-    { cat "$work/seeds.log" >&2; echo "fuzz $t: writing the seed corpus failed" >&2; exit 1; }
-  common=(-timeout=10 -rss_limit_mb=2048 -max_len="$(max_len "$t")")
-  dict=()
+    { cat "$work/seeds.log" >&2; echo "fuzz $t: writing the seed corpus failed" >&2
+      echo "fuzz $t: SEED CORPUS FAILED (log $work/seeds.log)" >"$work/summary"; return 1; }
+  local common=(-timeout=10 -rss_limit_mb=2048 -max_len="$(max_len "$t")")
+  local dict=()
   if write_dict "$t" "$work/$t.dict"; then dict=(-dict="$work/$t.dict"); fi
 
   # Kept crash inputs first: each must run clean now.
+  local regressions=()
   shopt -s nullglob
   regressions=(tests/fuzz/regressions/"$t"/*)
   shopt -u nullglob
@@ -113,19 +114,18 @@ for t in "${TARGETS[@]}"; do
     if ! "$bin" "${common[@]}" "${regressions[@]}" >"$work/regressions.log" 2>&1; then
       tail -n 60 "$work/regressions.log" >&2
       echo "fuzz $t: a regression input crashes again (tests/fuzz/regressions/$t/, log $work/regressions.log)" >&2
-      summaries+=("fuzz $t: REGRESSION CRASH (${#regressions[@]} kept inputs)")
-      failed=1
-      continue
+      echo "fuzz $t: REGRESSION CRASH (${#regressions[@]} kept inputs)" >"$work/summary"
+      return 1
     fi
   fi
 
   echo "== fuzz $t: ${SECONDS_PER_TARGET} s ($(ls "$work/seeds" | wc -l) seeds, ${#regressions[@]} regression inputs)"
+  local start rc elapsed runs speed corpus crash close_fd=0
   start=$(date +%s)
-  set +e
   # Stderr of the target itself (PCL's warnings, for the map store) is closed; libFuzzer and the
   # sanitizers keep their own channel.
-  close_fd=0
   if [ "$t" = map_store ]; then close_fd=2; fi
+  set +e
   "$bin" "${common[@]}" "${dict[@]}" -max_total_time="$SECONDS_PER_TARGET" -print_final_stats=1 \
     -close_fd_mask=$close_fd -artifact_prefix="$work/artifacts/" "$work/corpus" "$work/seeds" \
     >"$work/fuzz.log" 2>&1
@@ -139,13 +139,30 @@ for t in "${TARGETS[@]}"; do
     crash=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$work/fuzz.log" | tail -n 1)
     grep -E 'ERROR: |SUMMARY: |FUZZ FINDING|==[0-9]+==|#[0-9]+ 0x' "$work/fuzz.log" | head -n 40 >&2 || true
     echo "fuzz $t: CRASH (exit $rc), input: ${crash:-none written} (log $work/fuzz.log)" >&2
-    summaries+=("fuzz $t: CRASH after ${runs:-?} runs, ${elapsed} s: ${crash:-see $work/fuzz.log}")
-    failed=1
-  else
-    summaries+=("fuzz $t: ${runs:-?} runs (${speed:-?} exec/s), corpus ${corpus:-?} inputs/bytes, ${elapsed} s, no crash")
+    echo "fuzz $t: CRASH after ${runs:-?} runs, ${elapsed} s: ${crash:-see $work/fuzz.log}" >"$work/summary"
+    return 1
   fi
+  echo "fuzz $t: ${runs:-?} runs (${speed:-?} exec/s), corpus ${corpus:-?} inputs/bytes, ${elapsed} s, no crash" >"$work/summary"
+}
+
+# Each libFuzzer process is single-threaded: JOBS targets fuzz at once (one per core).
+failed=0
+running=0
+for t in "${TARGETS[@]}"; do
+  if [ "$running" -ge "$JOBS" ]; then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
+  fuzz_one "$t" &
+  running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do
+  wait -n || failed=1
+  running=$((running - 1))
 done
 
 echo "== fuzz summary"
-printf '%s\n' "${summaries[@]}"
+for t in "${TARGETS[@]}"; do
+  cat "$BUILD/fuzz-work/$t/summary" 2>/dev/null || { echo "fuzz $t: NO RESULT"; failed=1; }
+done
 exit $failed

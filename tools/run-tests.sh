@@ -48,7 +48,7 @@ begin "include floors"
 bash tools/check-floors.sh
 
 begin "release: build"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=ON >/dev/null
+configure_ninja build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=ON
 cmake --build build -j"$JOBS"
 begin "release: tests"
 ctest --test-dir build --output-on-failure -j"$JOBS"
@@ -68,12 +68,8 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   for t in "${asan_targets[@]}"; do target_args+=(--target "$t"); done
   cmake --build build-asan -j"$JOBS" "${target_args[@]}"
   begin "asan+ubsan: tests"
-  # Four long drives run in the release stage only: under ASan+UBSan they took 140-440 s each
-  # (25x release), two thirds of this stage, and every function they call is also run here by the
-  # shorter drives of the same suites (zigzag, outdoor loop, corridor axis, loop closure laps).
-  long_drives='OdometryIntegration\.(MapSizeIsBoundedOnALongDrive|LongSparseCorridorDoesNotCollapseToStandstill|InterpolatedStartPosesFollowAHandHeldWalk)|LoopClosure\.LapsOverMappedGroundKeepPosesButNotClouds'
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir build-asan --output-on-failure -j"$JOBS" -L sanitize -E "$long_drives"
+    ctest --test-dir build-asan --output-on-failure -j"$JOBS" -L sanitize -E "$ASAN_LONG_DRIVES"
 
   if [ "${DAMMLOAM_SKIP_FUZZ:-0}" != "1" ]; then
     # libFuzzer targets of every parser of outside bytes (tests/fuzz), from the same build: the
