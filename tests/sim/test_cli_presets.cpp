@@ -42,6 +42,26 @@ TEST_F(SimulatePresetCli, PresetPrefixMatchesTheLibrary) {
   }
 }
 
+// labels/NNNNNN.bin: one byte per point of the scan file, only for runs with actors.
+TEST_F(SimulatePresetCli, ActorPresetWritesLabelsBesideTheScans) {
+  const fs::path out = dir_ / "seq";
+  ASSERT_EQ(Run("--preset follow-me --sensor vlp-16 --scans 3 --out " + out.string()), 0) << Log();
+  EXPECT_NE(Log().find("1 leading"), std::string::npos) << Log();
+  const io::SequenceReader reader = io::SequenceReader::Open(out);
+  ASSERT_EQ(reader.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const fs::path labels = out / "labels" / io::ScanFileName(k);
+    ASSERT_TRUE(fs::exists(labels)) << labels;
+    EXPECT_EQ(fs::file_size(labels), reader.ReadScan(k).size()) << labels;
+    EXPECT_EQ(fs::file_size(labels) * 24, fs::file_size(reader.ScanPath(k))) << labels;
+  }
+  // The same directory overwritten by a run without actors keeps no stale labels.
+  ASSERT_EQ(Run("--preset handheld-corridor --sensor vlp-16 --scans 2 --overwrite --out " + out.string()), 0)
+      << Log();
+  EXPECT_FALSE(fs::exists(out / "labels"));
+  EXPECT_NE(Log().find("actors: none"), std::string::npos) << Log();
+}
+
 TEST_F(SimulatePresetCli, MotionOnAnyScene) {
   const fs::path out = dir_ / "seq";
   ASSERT_EQ(Run("--scene corridor --motion legged --scans 3 --columns 256 --out " + out.string()), 0)

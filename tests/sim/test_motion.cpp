@@ -287,8 +287,11 @@ TEST(NewScenes, RealisticRangeModelFadesGrazingWalls) {
 // --- Presets ------------------------------------------------------------------------------
 
 TEST(Presets, NamesAndDefaults) {
-  const std::vector<std::string> expected = {"handheld-corridor", "wheeled-corridor", "legged-tunnel",
-                                             "handheld-endless", "handheld-campus", "wheeled-zigzag"};
+  const std::vector<std::string> expected = {"handheld-corridor",        "wheeled-corridor",
+                                             "legged-tunnel",            "handheld-endless",
+                                             "handheld-campus",          "wheeled-zigzag",
+                                             "handheld-corridor-people", "wheeled-zigzag-people",
+                                             "campus-crowd",             "follow-me"};
   EXPECT_EQ(PresetNames(), expected);
   for (const std::string& name : expected) {
     const auto p = FindPreset(name);

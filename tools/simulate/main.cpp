@@ -6,6 +6,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -61,6 +64,38 @@ sim::SensorSpec MakeSpec(const Args& a) {
   return spec;
 }
 
+// labels/NNNNNN.bin beside scans/: one uint8 per point of the scan file, in its order (see
+// docs/presets.md). Kept out of the shared sequence format: readers that do not know it skip it.
+class LabelWriter {
+ public:
+  // Clears labels a previous run left in `dir` (only reached once the sequence writer accepted
+  // the directory), then creates the folder if this run has actors.
+  LabelWriter(const std::filesystem::path& dir, bool enabled) : dir_(dir / "labels"), enabled_(enabled) {
+    std::filesystem::remove_all(dir_);
+    if (enabled_) std::filesystem::create_directories(dir_);
+  }
+  void Write(std::size_t index, const std::vector<std::uint8_t>& labels) const {
+    if (!enabled_) return;
+    const std::filesystem::path file = dir_ / io::ScanFileName(index);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(labels.data()), static_cast<std::streamsize>(labels.size()));
+    if (!out) throw io::IoError(file.string() + ": cannot write labels");
+  }
+
+ private:
+  std::filesystem::path dir_;
+  bool enabled_;
+};
+
+std::string ActorSummary(const sim::ActorSet& actors) {
+  if (actors.empty()) return "none";
+  return fmt::format("{} pedestrians ({} keeping pace, {} leading), {} vehicles ({} parking, {} leaving), {} doors",
+                     actors.Count(sim::ActorKind::Pedestrian), actors.Count(sim::ActorRole::Companion),
+                     actors.Count(sim::ActorRole::Leader), actors.Count(sim::ActorKind::Vehicle),
+                     actors.Count(sim::ActorRole::Parking), actors.Count(sim::ActorRole::Leaving),
+                     actors.Count(sim::ActorKind::Door));
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
@@ -80,6 +115,7 @@ int Run(const Args& a) {
     options.num_scans = planned.num_scans;
     options.noise_sigma = planned.noise_sigma;
     options.full_range_reflectivity = planned.full_range_reflectivity;
+    options.actors = planned.actors;
     scans = a.scans.value_or(preset.scans);
   } else {
     if (a.scene.empty()) throw std::invalid_argument("--scene or --preset is required");
@@ -113,15 +149,18 @@ int Run(const Args& a) {
   io::SequenceWriter writer(a.out, io::SequenceMeta{spec.name, simulator.sensor_model(),
                                                     io::PointLayout::kXYZITR},
                             a.overwrite);
+  const LabelWriter label_writer(a.out, simulator.has_actors());
+  std::vector<std::uint8_t> labels;
   std::vector<io::StampedPose> ground_truth;
   std::vector<double> sim_ms;
   std::vector<double> points;
   const auto run_start = std::chrono::steady_clock::now();
   for (int i = 0; i < scans; ++i) {
     const auto start = std::chrono::steady_clock::now();
-    const Scan scan = simulator.SimulateScan(i);
+    const Scan scan = simulator.SimulateScan(i, simulator.has_actors() ? &labels : nullptr);
     sim_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     points.push_back(static_cast<double>(scan.size()));
+    label_writer.Write(writer.size(), labels);
     writer.Write(scan);
     ground_truth.push_back({scan.t_start, simulator.PoseAt(scan.t_start)});
   }
@@ -162,6 +201,8 @@ int Run(const Args& a) {
       "{:.0f} ms, {} scans simulated and written in {:.1f} s",
       path_length, ground_truth.back().t - ground_truth.front().t, slowest, Median(speeds), fastest,
       setup_ms, scans, total_s);
+  spdlog::info("simulate: actors: {}{}", ActorSummary(simulator.actors()),
+               simulator.has_actors() ? " (point labels in labels/)" : "");
   return 0;
 }
 

@@ -11,19 +11,61 @@ SimOptions Preset::Options(std::uint64_t seed) const {
   options.motion = motion;
   options.num_scans = scans;
   options.full_range_reflectivity = full_range_reflectivity;
+  options.actors = actors;
   return options;
 }
+
+namespace {
+
+ActorConfig CorridorPeople() {
+  ActorConfig c;
+  c.walkers = 9;
+  c.close_passes = 4;
+  c.groups = 1;
+  c.doors = 2;
+  return c;
+}
+
+// The wheeled carrier zig-zags across most of the corridor: no room for a group beside it.
+ActorConfig ZigzagPeople() {
+  ActorConfig c;
+  c.walkers = 10;
+  c.close_passes = 3;
+  c.doors = 3;
+  return c;
+}
+
+ActorConfig CampusCrowd() {
+  ActorConfig c;
+  c.walkers = 36;
+  c.close_passes = 6;
+  c.standing = 6;
+  c.groups = 1;
+  c.traffic = 5;
+  c.park_and_leave = true;
+  return c;
+}
+
+ActorConfig FollowMe() {
+  ActorConfig c;
+  c.follow_me = true;
+  return c;
+}
+
+}  // namespace
 
 const std::vector<Preset>& Presets() {
   static const std::vector<Preset> presets = [] {
     std::vector<Preset> p;
-    auto add = [&](std::string name, SceneKind scene, MotionKind motion, int scans, std::string what) {
+    auto add = [&](std::string name, SceneKind scene, MotionKind motion, int scans, std::string what,
+                   ActorConfig actors = {}) {
       Preset preset;
       preset.name = std::move(name);
       preset.scene = scene;
       preset.motion = motion;
       preset.scans = scans;
       preset.what = std::move(what);
+      preset.actors = actors;
       p.push_back(std::move(preset));
     };
     add("handheld-corridor", SceneKind::LongCorridor, MotionKind::Handheld, 1700,
@@ -38,6 +80,22 @@ const std::vector<Preset>& Presets() {
         "walking outdoors on uneven ground, a 300 m loop back to the start");
     add("wheeled-zigzag", SceneKind::Zigzag, MotionKind::Wheeled, 850,
         "speed changes and stops on a zig-zag through a corridor with doors and pillars");
+    // The same walks with moving actors (labels/ beside the scans).
+    add("handheld-corridor-people", SceneKind::LongCorridor, MotionKind::Handheld, 1700,
+        "handheld-corridor with people walking both ways (some within 1 m), a group keeping "
+        "pace beside the walker and two doors opening",
+        CorridorPeople());
+    add("wheeled-zigzag-people", SceneKind::Zigzag, MotionKind::Wheeled, 850,
+        "wheeled-zigzag with people walking both ways, stopping and turning, and doors opening",
+        ZigzagPeople());
+    add("campus-crowd", SceneKind::Campus, MotionKind::Handheld, 2500,
+        "handheld-campus with 40+ pedestrians, a group alongside, cars going round, one car "
+        "parking and a parked one leaving",
+        CampusCrowd());
+    add("follow-me", SceneKind::LongCorridor, MotionKind::Handheld, 1700,
+        "handheld-corridor behind a person walking 2 m ahead the whole way: the view ahead "
+        "moves with the walker",
+        FollowMe());
     return p;
   }();
   return presets;

@@ -21,6 +21,7 @@ struct Preset {
   int scans = 0;               // the whole walk at 10 Hz (ends standing still)
   double full_range_reflectivity = kRealisticFullRangeReflectivity;
   std::string what;            // what the run tests, one line
+  ActorConfig actors;          // moving people, vehicles and doors (none by default)
 
   // scene-independent options: seed, noise, carrier, range model, num_scans = scans.
   SimOptions Options(std::uint64_t seed = 1) const;

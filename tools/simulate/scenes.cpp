@@ -47,6 +47,10 @@ struct Door {
 };
 constexpr double kDoorWidth = 1.0, kDoorHeight = 2.1, kDoorDepth = 0.4;
 
+Bounds2d CorridorFloor(const CorridorShape& c) {
+  return {Eigen::Vector2d(c.x0, -0.5 * c.width), Eigen::Vector2d(c.x1, 0.5 * c.width)};
+}
+
 void AddFloorAndCeiling(Scene& scene, const CorridorShape& c, double extra_width) {
   const double half = 0.5 * c.width + extra_width;
   scene.Add(HorizontalRect(c.x0, c.x1, -half, half, 0.0, kFloor));
@@ -54,8 +58,8 @@ void AddFloorAndCeiling(Scene& scene, const CorridorShape& c, double extra_width
 }
 
 // One side wall with its door recesses (gap, lintel, jambs, recess back and top).
-void AddSideWall(Scene& scene, const CorridorShape& c, int side, std::vector<double> doors,
-                 double depth = kDoorDepth) {
+void AddSideWall(Scene& scene, SceneLayout& layout, const CorridorShape& c, int side,
+                 std::vector<double> doors, double depth = kDoorDepth) {
   const double y = side * 0.5 * c.width, y_back = side * (0.5 * c.width + depth);
   std::sort(doors.begin(), doors.end());
   double x = c.x0;
@@ -67,6 +71,7 @@ void AddSideWall(Scene& scene, const CorridorShape& c, int side, std::vector<dou
     scene.Add(WallAlongY(std::min(y, y_back), std::max(y, y_back), a, 0.0, kDoorHeight, kWall));
     scene.Add(WallAlongY(std::min(y, y_back), std::max(y, y_back), b, 0.0, kDoorHeight, kWall));
     scene.Add(HorizontalRect(a, b, std::min(y, y_back), std::max(y, y_back), kDoorHeight, kWall));
+    layout.doors.push_back({d, side, y, y_back, 0.5 * kDoorWidth, kDoorHeight});
     x = b;
   }
   scene.Add(WallAlongX(x, c.x1, y, 0.0, c.height, kWall));
@@ -88,8 +93,9 @@ World Corridor(double speed, double duration, bool go_and_return) {
   const double out = go_and_return ? std::max(5.0, 0.5 * (travel - kPi * kTurnRadius)) : travel;
   c.x1 = std::max(60.0 + c.x0, out + 10.0);
   AddFloorAndCeiling(w.scene, c, 0.0);
-  AddSideWall(w.scene, c, +1, {});
-  AddSideWall(w.scene, c, -1, {});
+  AddSideWall(w.scene, w.layout, c, +1, {});
+  AddSideWall(w.scene, w.layout, c, -1, {});
+  w.layout.corridor = CorridorFloor(c);
   // A real corridor ends somewhere: two end walls, far away for most of the drive, are the only
   // (weak) constraint along its axis. That is the degenerate case of the paper.
   w.scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
@@ -120,8 +126,9 @@ World Zigzag(double speed, double duration) {
   std::uniform_real_distribution<double> gap(4.0, 9.0);
   std::vector<double> doors[2];
   for (double x = c.x0 + 3.0; x < c.x1 - 2.0; x += gap(rng)) doors[rng() % 2].push_back(x);
-  AddSideWall(w.scene, c, +1, doors[0]);
-  AddSideWall(w.scene, c, -1, doors[1]);
+  AddSideWall(w.scene, w.layout, c, +1, doors[0]);
+  AddSideWall(w.scene, w.layout, c, -1, doors[1]);
+  w.layout.corridor = CorridorFloor(c);
   for (double x = c.x0 + 5.0; x < c.x1 - 2.0; x += gap(rng)) {
     const int side = rng() % 2 ? 1 : -1;
     const auto& mine = doors[side > 0 ? 0 : 1];
@@ -148,8 +155,9 @@ World Repetitive(double speed, double duration) {
     doors.push_back(x);
     AddPillar(w.scene, c, x + 4.0, -1);
   }
-  AddSideWall(w.scene, c, +1, doors);
-  AddSideWall(w.scene, c, -1, {});
+  AddSideWall(w.scene, w.layout, c, +1, doors);
+  AddSideWall(w.scene, w.layout, c, -1, {});
+  w.layout.corridor = CorridorFloor(c);
   w.motion.path = StraightPath(c.x1 - 1.0);
   w.motion.speed = speed;
   w.motion.sensor_height = 1.2;
@@ -234,16 +242,17 @@ constexpr double kArriveMargin = 2.0;    // s standing at the end of a planned w
 double ArriveTime(double duration) { return std::max(duration - kArriveMargin, 0.0); }
 
 // A 2.4 x 2.8 m corridor from x0 to x1 with shallow door recesses and both end walls.
-void AddPlainCorridor(Scene& scene, double x0, double x1, const std::vector<double>& left,
+void AddPlainCorridor(World& w, double x0, double x1, const std::vector<double>& left,
                       const std::vector<double>& right, double recess_depth) {
   CorridorShape c;
   c.x0 = x0;
   c.x1 = x1;
-  AddFloorAndCeiling(scene, c, recess_depth);
-  AddSideWall(scene, c, +1, left, recess_depth);
-  AddSideWall(scene, c, -1, right, recess_depth);
-  scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
-  scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x1, 0.0, c.height, kWall));
+  AddFloorAndCeiling(w.scene, c, recess_depth);
+  AddSideWall(w.scene, w.layout, c, +1, left, recess_depth);
+  AddSideWall(w.scene, w.layout, c, -1, right, recess_depth);
+  w.scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x0, 0.0, c.height, kWall));
+  w.scene.Add(WallAlongY(-0.5 * c.width, 0.5 * c.width, c.x1, 0.0, c.height, kWall));
+  w.layout.corridor = CorridorFloor(c);
 }
 
 // Out along the right half of the corridor, a U-turn to the left, back along the left half.
@@ -253,7 +262,7 @@ Path ThereAndBack(double x_start, double out, double back, double turn_radius) {
 
 World LongCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 130.0, {17.3, 58.6, 101.2}, {36.9, 83.4}, recess_depth);
+  AddPlainCorridor(w, 0.0, 130.0, {17.3, 58.6, 101.2}, {36.9, 83.4}, recess_depth);
   w.motion.path = ThereAndBack(5.0, 88.0, 87.0, 0.5);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
@@ -262,7 +271,7 @@ World LongCorridor(double speed, double duration, double recess_depth) {
 
 World EndlessCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 460.0, {171.0, 262.8}, {224.5, 298.1}, recess_depth);
+  AddPlainCorridor(w, 0.0, 460.0, {171.0, 262.8}, {224.5, 298.1}, recess_depth);
   w.motion.path = ThereAndBack(130.0, 200.0, 200.0, 0.5);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
@@ -271,7 +280,7 @@ World EndlessCorridor(double speed, double duration, double recess_depth) {
 
 World StraightCorridor(double speed, double duration, double recess_depth) {
   World w;
-  AddPlainCorridor(w.scene, 0.0, 60.0, {13.7, 44.6}, {29.2}, recess_depth);
+  AddPlainCorridor(w, 0.0, 60.0, {13.7, 44.6}, {29.2}, recess_depth);
   w.motion.path = Path({Eigen::Vector2d(2.0, -0.2), 0.0}).Line(56.0);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);
@@ -298,6 +307,7 @@ World Tunnel(double speed, double duration) {
   }
   w.scene.Add(WallAlongY(-kRadius, kRadius, 0.0, 0.0, top, kConcrete));
   w.scene.Add(WallAlongY(-kRadius, kRadius, kLength, 0.0, top, kConcrete));
+  w.layout.corridor = Bounds2d{Eigen::Vector2d(0.0, -half_floor), Eigen::Vector2d(kLength, half_floor)};
   w.motion.path = Path({Eigen::Vector2d(5.0, 0.4), 0.0}).Line(110.0);
   w.motion.speed = speed;
   w.motion.arrive_time = ArriveTime(duration);

@@ -43,9 +43,27 @@ std::optional<SceneKind> ParseSceneKind(std::string_view name);
 std::string_view SceneName(SceneKind kind);
 double DefaultSpeed(SceneKind kind);
 
+// A door recess in a corridor's side wall: the opening spans x +- half_width at the wall
+// y = wall_y, its back (where the static door stands) is at y = back_y.
+struct DoorRecess {
+  double x = 0.0;
+  int side = 1;  // +1: the left wall (y > 0), -1: the right wall
+  double wall_y = 0.0, back_y = 0.0;
+  double half_width = 0.5;
+  double height = 2.1;
+};
+
+// Where moving actors may go (actor_layouts.hpp). It only describes the scene: the primitives
+// and so every static run stay exactly what they are.
+struct SceneLayout {
+  std::optional<Bounds2d> corridor;  // floor between the side walls; none: open ground
+  std::vector<DoorRecess> doors;
+};
+
 struct World {
   Scene scene;  // already built
   MotionSpec motion;
+  SceneLayout layout;
 };
 
 // `speed` in m/s (<= 0: the scene's default); `duration` in seconds sizes the corridor scenes so

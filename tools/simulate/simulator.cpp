@@ -62,6 +62,10 @@ Simulator::Simulator(SceneKind kind, SensorSpec sensor, SimOptions options)
     throw std::invalid_argument("firing phase must be in [0, 1) columns or random, got " +
                                 std::to_string(options_.firing_phase));
   }
+  if (options_.actors.any()) {
+    const double duration = std::max(options_.num_scans, 1) * sensor_.scan_period;
+    actors_ = PlaceActors(options_.actors, world_, trajectory_, duration, options_.seed);
+  }
   const int rings = sensor_.rings();
   beam_dirs_.resize(static_cast<std::size_t>(sensor_.columns) * rings);
   for (int c = 0; c < sensor_.columns; ++c) {
@@ -126,9 +130,37 @@ double Simulator::FiringPhase(int index) const {
   return ColumnStream(options_.seed, index, -1).Uniform();
 }
 
+std::vector<ActorFootprint> Simulator::ActorFootprintsAt(double t) const {
+  return actors_.FootprintsAt(t - options_.t0);
+}
+
+SweptVolume Simulator::ActorSweptVolume(double t_from, double t_to) const {
+  return SweptVolume(actors_, t_from - options_.t0, t_to - options_.t0);
+}
+
+std::vector<PosedPart> Simulator::ActorsInColumn(int column, double t, const Eigen::Isometry3d& T_world_sensor,
+                                                 const std::optional<Eigen::Matrix3d>& R_phase,
+                                                 const std::vector<ActorSet::Reach>& reach) const {
+  std::vector<PosedPart> parts;
+  if (reach.empty()) return parts;
+  // The column's beams span the vertical half-plane at its azimuth (turned by the phase).
+  const double az = ColumnAzimuth(sensor_, column);
+  Eigen::Vector3d forward(std::cos(az), std::sin(az), 0.0), normal(-std::sin(az), std::cos(az), 0.0);
+  if (R_phase) {
+    forward = *R_phase * forward;
+    normal = *R_phase * normal;
+  }
+  actors_.PoseForColumn(reach, t - options_.t0, T_world_sensor.translation(), T_world_sensor.linear() * forward,
+                        T_world_sensor.linear() * normal, sensor_.max_range, &parts);
+  return parts;
+}
+
 void Simulator::SimulateColumn(int index, int column, double t_start,
-                               const std::optional<Eigen::Matrix3d>& R_phase, Return* out) const {
-  const Eigen::Isometry3d T_world_sensor = PoseAt(t_start + ColumnTime(sensor_, column));
+                               const std::optional<Eigen::Matrix3d>& R_phase,
+                               const std::vector<ActorSet::Reach>& reach, Return* out) const {
+  const double t = t_start + ColumnTime(sensor_, column);
+  const Eigen::Isometry3d T_world_sensor = PoseAt(t);
+  const std::vector<PosedPart> actors = ActorsInColumn(column, t, T_world_sensor, R_phase, reach);
   SplitMix64 rng = ColumnStream(options_.seed, index, column);
   const int rings = sensor_.rings();
   for (int r = 0; r < rings; ++r) {
@@ -138,7 +170,13 @@ void Simulator::SimulateColumn(int index, int column, double t_start,
     const Eigen::Vector3d& column_dir = beam_dirs_[static_cast<std::size_t>(column) * rings + r];
     const Eigen::Vector3d dir = R_phase ? Eigen::Vector3d(*R_phase * column_dir) : column_dir;
     const Ray ray{T_world_sensor.translation(), T_world_sensor.linear() * dir};
-    const std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
+    std::optional<Hit> hit = world_.scene.Cast(ray, 1e-6, sensor_.max_range);
+    PointLabel label = PointLabel::Static;
+    if (!actors.empty()) {
+      Hit nearest = hit.value_or(Hit{sensor_.max_range, Eigen::Vector3d::UnitZ(), 0.0f});
+      label = ActorSet::Intersect(actors, ray, 1e-6, nearest);
+      if (label != PointLabel::Static) hit = nearest;
+    }
     if (!hit || dropped || hit->t < sensor_.min_range) continue;
     if (options_.full_range_reflectivity > 0.0) {
       // Lambertian return power ~ reflectivity * cos(incidence) / r^2 against a fixed threshold.
@@ -151,11 +189,11 @@ void Simulator::SimulateColumn(int index, int column, double t_start,
     // Return strength: material reflectivity times incidence (Lambertian-like), 0..255.
     const double incidence = std::abs(hit->normal.dot(ray.dir));
     out[r] = {range * dir, static_cast<float>(255.0 * hit->reflectivity * (0.2 + 0.8 * incidence)),
-              true};
+              true, label};
   }
 }
 
-Scan Simulator::SimulateScan(int index) const {
+Scan Simulator::SimulateScan(int index, std::vector<std::uint8_t>* actor_labels) const {
   const int rings = sensor_.rings(), columns = sensor_.columns;
   Scan scan;
   scan.t_start = ScanStartTime(index);
@@ -167,9 +205,14 @@ Scan Simulator::SimulateScan(int index) const {
     R_phase = Eigen::AngleAxisd(-2.0 * std::numbers::pi * phase / columns, Eigen::Vector3d::UnitZ())
                   .toRotationMatrix();
   }
+  // Every actor that may come into view during the scan, once, instead of once per column.
+  const double drive_start = scan.t_start - options_.t0;
+  const std::vector<ActorSet::Reach> reach =
+      actors_.empty() ? std::vector<ActorSet::Reach>{}
+                      : actors_.ReachDuring(drive_start, drive_start + sensor_.scan_period);
   auto run = [&](int c0, int c1) {
     for (int c = c0; c < c1; ++c) {
-      SimulateColumn(index, c, scan.t_start, R_phase, &returns[static_cast<std::size_t>(c) * rings]);
+      SimulateColumn(index, c, scan.t_start, R_phase, reach, &returns[static_cast<std::size_t>(c) * rings]);
     }
   };
   if (options_.threads == 1) {
@@ -184,6 +227,10 @@ Scan Simulator::SimulateScan(int index) const {
   scan.intensities.reserve(valid);
   scan.times.reserve(valid);
   scan.rings.reserve(valid);
+  if (actor_labels) {
+    actor_labels->clear();
+    actor_labels->reserve(valid);
+  }
   for (int c = 0; c < columns; ++c) {
     for (int r = 0; r < rings; ++r) {
       const Return& ret = returns[static_cast<std::size_t>(c) * rings + r];
@@ -192,6 +239,7 @@ Scan Simulator::SimulateScan(int index) const {
       scan.intensities.push_back(ret.intensity);
       scan.times.push_back(ColumnTime(sensor_, c));
       scan.rings.push_back(static_cast<std::int16_t>(r));
+      if (actor_labels) actor_labels->push_back(static_cast<std::uint8_t>(ret.label));
     }
   }
   return scan;

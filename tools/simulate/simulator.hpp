@@ -6,8 +6,11 @@
 #include <vector>
 
 #include "core/geometry/scan.hpp"
+#include "tools/simulate/actor_layouts.hpp"
+#include "tools/simulate/actors.hpp"
 #include "tools/simulate/scenes.hpp"
 #include "tools/simulate/sensor_spec.hpp"
+#include "tools/simulate/swept_volume.hpp"
 
 namespace dammloam::sim {
 
@@ -39,6 +42,9 @@ struct SimOptions {
   // kRandomFiringPhase: a fresh offset per scan from the seed, as a motor whose phase drifts
   // against the turn's start (a real Velodyne's or Ouster's azimuths).
   double firing_phase = 0.0;
+  // Moving people, vehicles and doors (actor_layouts.hpp), placed from `seed` through a stream
+  // of their own: the noise and the carrier are the same with or without them. Default: none.
+  ActorConfig actors;
 };
 
 inline constexpr double kRandomFiringPhase = -1.0;
@@ -58,8 +64,10 @@ class Simulator {
   Simulator(const Preset& preset, SensorSpec sensor, std::uint64_t seed = 1, int threads = 0);
 
   // Scan `index` (0-based): t_start = ScanStartTime(index), points in firing order. The same
-  // index and seed always give the same scan, whatever the thread count.
-  Scan SimulateScan(int index) const;
+  // index and seed always give the same scan, whatever the thread count. `actor_labels`, if
+  // given, gets one PointLabel per point in the same order: 0 static world, 1 on an actor that
+  // moved more than 0.3 m in the last second (at the point's firing time), 2 on a resting one.
+  Scan SimulateScan(int index, std::vector<std::uint8_t>* actor_labels = nullptr) const;
 
   // T_world_sensor at absolute time t (the clock of Scan::t_start). The pose of a point is
   // PoseAt(scan.t_start + scan.times[i]), computed exactly like that by the simulator itself.
@@ -74,6 +82,15 @@ class Simulator {
   const Scene& scene() const { return world_.scene; }
   const Trajectory& trajectory() const { return trajectory_; }
 
+  // Actors take the drive time (seconds since t0); these take the clock of Scan::t_start.
+  bool has_actors() const { return !actors_.empty(); }
+  const ActorSet& actors() const { return actors_; }
+  std::vector<ActorFootprint> ActorFootprintsAt(double t) const;
+  // Where the actors were during [t_from, t_to]; Vacated(p): they have left p by t_to.
+  SweptVolume ActorSweptVolume(double t_from, double t_to) const;
+  // Replaces the actors, e.g. with hand-placed ones in a test (their times: drive time).
+  void SetActors(ActorSet actors) { actors_ = std::move(actors); }
+
   static std::vector<std::string> SceneNames();
   // The scene with the chosen carrier applied to its motion (what the constructor uses).
   static World MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOptions& options);
@@ -83,11 +100,17 @@ class Simulator {
     Eigen::Vector3d point;
     float intensity = 0.0f;
     bool valid = false;
+    PointLabel label = PointLabel::Static;
   };
   // R_phase turns every beam by the scan's firing phase; empty: the columns fire on the image's
-  // column boundaries.
+  // column boundaries. `reach`: the actors that may be seen during the scan.
   void SimulateColumn(int index, int column, double t_start,
-                      const std::optional<Eigen::Matrix3d>& R_phase, Return* out) const;
+                      const std::optional<Eigen::Matrix3d>& R_phase,
+                      const std::vector<ActorSet::Reach>& reach, Return* out) const;
+  // The column's actors posed at its firing time (empty when none can be hit).
+  std::vector<PosedPart> ActorsInColumn(int column, double t, const Eigen::Isometry3d& T_world_sensor,
+                                        const std::optional<Eigen::Matrix3d>& R_phase,
+                                        const std::vector<ActorSet::Reach>& reach) const;
   double FiringPhase(int index) const;
 
   SceneKind kind_;
@@ -95,6 +118,7 @@ class Simulator {
   SimOptions options_;
   World world_;
   Trajectory trajectory_;
+  ActorSet actors_;
   std::vector<Eigen::Vector3d> beam_dirs_;  // [column * rings + ring], sensor frame, unit
 };
 

@@ -39,6 +39,10 @@ double Trajectory::Distance(double t) const {
   return 0.5 * v * (t - T / std::numbers::pi * std::sin(std::numbers::pi * t / T));
 }
 
+double Trajectory::PathDistance(double t) const {
+  return carrier_ ? carrier_->Eval(t).s : Distance(t);
+}
+
 Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
   const double s = Distance(t);
   const Path::State base = spec_.path.At(s, spec_.closed);

@@ -55,6 +55,8 @@ class Trajectory {
   // T_world_sensor at t seconds after the start of the drive.
   Eigen::Isometry3d Pose(double t) const;
   const MotionSpec& spec() const { return spec_; }
+  // Arc length along spec().path travelled after t seconds, whichever carrier moves.
+  double PathDistance(double t) const;
   // The precomputed carrier (null for constant motion).
   const CarrierMotion* carrier() const { return carrier_.get(); }
 
