@@ -112,6 +112,20 @@ void ReadMotionPrior(Section s, OdometryConfig& c) {
   s.RejectUnknownKeys();
 }
 
+void ReadMoving(Section s, OdometryConfig& c) {
+  MovingPointsConfig& m = c.moving;
+  s.Get("enabled", m.enabled);
+  s.Get("margin", m.margin);
+  s.Get("margin_per_metre", m.margin_per_metre);
+  s.Get("max_range", m.max_range);
+  s.Get("cluster_spacing", m.cluster_spacing);
+  s.Get("min_evidence", m.min_evidence);
+  s.Get("min_evidence_share", m.min_evidence_share);
+  s.Get("max_object_extent", m.max_object_extent);
+  s.Get("remove_moved_away_every", c.remove_moved_away_every);
+  s.RejectUnknownKeys();
+}
+
 void Require(bool ok, const char* field, const std::string& what) {
   if (!ok) throw ConfigError(std::string(field) + ": " + what);
 }
@@ -126,6 +140,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadMap(s.Child("map"), config.map);
   ReadRegistration(s.Child("registration"), config.registration);
   ReadMotionPrior(s.Child("motion_prior"), config);
+  ReadMoving(s.Child("moving"), config);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
   s.Get("interpolate_start_pose", config.interpolate_start_pose);
@@ -246,6 +261,16 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
           "motion_prior.in_scan_angular_acceleration_sigma",
           "needs the in-scan motion on (in_scan_velocity_sigma and in_scan_rate_sigma > 0)");
   Require(c.map_frame_voxel_factor > 0.0, "map_frame_voxel_factor", "must be > 0");
+  const MovingPointsConfig& mv = c.moving;
+  Require(mv.margin > 0.0, "moving.margin", "must be > 0");
+  Require(mv.margin_per_metre >= 0.0, "moving.margin_per_metre", "must be >= 0");
+  Require(mv.max_range > 0.0, "moving.max_range", "must be > 0");
+  Require(mv.cluster_spacing > 0.0, "moving.cluster_spacing", "must be > 0");
+  Require(mv.min_evidence >= 1, "moving.min_evidence", "must be >= 1");
+  Require(mv.min_evidence_share >= 0.0 && mv.min_evidence_share <= 1.0, "moving.min_evidence_share",
+          "must be in [0, 1]");
+  Require(mv.max_object_extent > 0.0, "moving.max_object_extent", "must be > 0");
+  Require(c.remove_moved_away_every >= 1, "moving.remove_moved_away_every", "must be >= 1");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
   Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");

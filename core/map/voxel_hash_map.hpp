@@ -36,6 +36,10 @@ class VoxelHashMap {
   // World-frame insertion; a voxel keeps at most max_points_per_voxel points of each class.
   void AddPoints(const std::vector<MapPoint>& points);
   void RemoveFarVoxels(const Eigen::Vector3d& origin);
+  // Removes every point within `radius` of `origin` for which remove(point) is true (what has
+  // moved away since it was mapped); voxels left empty are dropped. Returns how many went.
+  template <typename Predicate>
+  std::size_t RemovePointsIf(const Eigen::Vector3d& origin, double radius, Predicate remove);
 
   // Nearest map point to `query` in the 27-voxel neighbourhood, restricted to `label` when
   // given and closer than max_distance. nullptr when there is none.
@@ -148,5 +152,45 @@ class VoxelHashMap {
   std::optional<Eigen::Vector3d> last_crop_origin_;
   ChangeLog changes_;
 };
+
+template <typename Predicate>
+std::size_t VoxelHashMap::RemovePointsIf(const Eigen::Vector3d& origin, double radius,
+                                         Predicate remove) {
+  const double reach = radius + 2.0 * voxel_size_;  // a voxel's points lie within its diagonal
+  const double reach_sq = reach * reach;
+  std::size_t removed = 0;
+  for (auto it = map_.begin(); it != map_.end();) {
+    VoxelBlock& block = it.value();
+    if ((block.points.front().position - origin).squaredNorm() > reach_sq) {
+      ++it;
+      continue;
+    }
+    std::array<std::uint16_t, kNumPointClasses + 1> begin{};
+    std::size_t kept = 0;
+    for (std::size_t c = 0; c < kNumPointClasses; ++c) {
+      begin[c] = static_cast<std::uint16_t>(kept);
+      for (std::size_t k = block.begin[c]; k < block.begin[c + 1]; ++k) {
+        if (!remove(static_cast<const MapPoint&>(block.points[k]))) block.points[kept++] = block.points[k];
+      }
+    }
+    begin[kNumPointClasses] = static_cast<std::uint16_t>(kept);
+    const std::size_t gone = block.points.size() - kept;
+    if (gone == 0) {
+      ++it;
+      continue;
+    }
+    changes_.Add(it->first, block);
+    removed += gone;
+    num_points_ -= gone;
+    if (kept == 0) {
+      it = map_.erase(it);
+      continue;
+    }
+    block.points.resize(kept);
+    block.begin = begin;
+    ++it;
+  }
+  return removed;
+}
 
 }  // namespace dammloam

@@ -52,6 +52,14 @@ void TransformScan(const Eigen::Isometry3d& T, ClassifiedScan& scan) {
   });
 }
 
+// Drops the indices of moving points (moving empty: none moves).
+void WithoutMoving(std::vector<std::size_t>& indices, const std::vector<std::uint8_t>& moving) {
+  if (moving.empty()) return;
+  indices.erase(std::remove_if(indices.begin(), indices.end(),
+                               [&](std::size_t i) { return moving[i] != 0; }),
+                indices.end());
+}
+
 template <typename T>
 std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
   std::vector<T> out;
@@ -71,6 +79,7 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
            config.map.max_points_per_voxel),
       threshold_(config.registration.initial_threshold,
                  config.registration.min_motion_threshold, config.map.max_distance),
+      moving_(config.moving, sensor),
       translation_filter_(config.motion_prior) {}
 
 // A rotation error displaces a point in proportion to its range. KISS-ICP measures it at the
@@ -108,9 +117,11 @@ void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
   UpdateMap(first, T_world_last_);
 }
 
-void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor) {
-  const std::vector<std::size_t> kept = map_sampler_.Select(
+void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
+                         const std::vector<std::uint8_t>& moving) {
+  std::vector<std::size_t> kept = map_sampler_.Select(
       scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
+  WithoutMoving(kept, moving);
   map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
               Gather(scan.normals, kept), T_world_sensor);
 }
@@ -128,8 +139,10 @@ Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d
   return T_mid_start;
 }
 
-Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan) {
-  const std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
+Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan,
+                                              const std::vector<std::uint8_t>& moving) {
+  std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
+  WithoutMoving(idx, moving);
   SourcePoints source{Gather(scan.scan.points, idx), Gather(scan.labels, idx), {}};
   if (config_.deskew && scan.scan.has_times()) {
     source.times = Gather(scan.scan.times, idx);
@@ -205,7 +218,8 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   const double dt = TimeStep(scan.scan.t_start, result.status);
   Frame frame = Deskew(std::move(scan));
   result.timings.deskew_ms = watch.LapMs();
-  frame.source = SelectSource(frame.scan);
+  if (initialised_) DetectMoving(frame, dt);
+  frame.source = SelectSource(frame.scan, frame.moving);
   result.timings.downsample_ms = watch.LapMs();
   Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
   if (!initialised_) {
@@ -221,7 +235,11 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     T_new = reg.T_world_sensor;
     UpdateMotionModel(frame, reg, dt, result.status);
   }
-  InsertIntoMap(frame.scan, T_new, defer_map);
+  InsertIntoMap(frame.scan, frame.moving, T_new, defer_map);
+  if (config_.moving.enabled) {
+    moving_.AddView(frame.scan.scan.points, T_new, MidScanStamp(frame.scan.scan.t_start));
+    result.map_points_moved_away = RemoveMovedAway(T_new);
+  }
   result.timings.map_update_ms = watch.LapMs();
   return Finish(std::move(result), std::move(frame), T_new);
 }
@@ -270,6 +288,33 @@ Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan) const {
   frame.scan = std::move(scan);
   frame.T_mid_start = DeskewToMidScan(frame.scan, velocity_);
   return frame;
+}
+
+double Odometry::MidScanStamp(double t_start) const { return t_start + 0.5 * sensor_.scan_period; }
+
+// Judged at the predicted pose, before registration, so that what moves never pulls it: the
+// prediction is centimetres off, well inside the margin of the test.
+void Odometry::DetectMoving(Frame& frame, double dt) {
+  if (!config_.moving.enabled) return;
+  const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
+  frame.moving = moving_.Detect(frame.scan.scan.points, frame.scan.labels, T_pred,
+                                MidScanStamp(frame.scan.scan.t_start));
+}
+
+// Map points that the newest scan saw through are gone from where they were mapped: a car
+// that has left, a person's trail. Ground and roof stay (no ray sees through a floor).
+std::size_t Odometry::RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor) {
+  const DepthView* view = moving_.newest_view();
+  if (!view || ++scans_since_removal_ < static_cast<std::uint64_t>(config_.remove_moved_away_every)) {
+    return 0;
+  }
+  scans_since_removal_ = 0;
+  const Eigen::Vector3d origin = T_world_sensor.translation();
+  return map_.RemovePointsIf(origin, config_.moving.max_range, [&](const MapPoint& p) {
+    if (!CanMove(p.label)) return false;
+    const double distance = (p.position - origin).norm();
+    return distance <= config_.moving.max_range && view->SeesThrough(p.position, moving_.Margin(distance));
+  });
 }
 
 RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
@@ -333,7 +378,7 @@ RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const Registratio
   frame.scan = std::move(*frame.raw);
   frame.raw.reset();
   frame.T_mid_start = DeskewToMidScan(frame.scan, measured);
-  frame.source = SelectSource(frame.scan);
+  frame.source = SelectSource(frame.scan, frame.moving);
   frame.T_guess = T_world_last_ * ExpSE3(measured * dt);
   translation_filter_.Reset();  // the velocity it predicted with was wrong
   return RegisterSource(frame, Prior(dt, false));
@@ -391,16 +436,19 @@ void Odometry::UpdateMotionModel(const Frame& frame, const RegistrationResult& r
   last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
 }
 
-void Odometry::InsertIntoMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
-                             bool defer) {
+void Odometry::InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving,
+                             const Eigen::Isometry3d& T_world_sensor, bool defer) {
   if (!defer) {
-    UpdateMap(scan, T_world_sensor);
+    UpdateMap(scan, T_world_sensor, moving);
     return;
   }
   ClassifiedScan copy;
-  copy.scan.points = scan.scan.points;
-  copy.labels = scan.labels;
-  copy.normals = scan.normals;
+  std::vector<std::size_t> kept(scan.scan.points.size());
+  for (std::size_t i = 0; i < kept.size(); ++i) kept[i] = i;
+  WithoutMoving(kept, moving);
+  copy.scan.points = Gather(scan.scan.points, kept);
+  copy.labels = Gather(scan.labels, kept);
+  copy.normals = Gather(scan.normals, kept);
   pending_map_update_.emplace(std::move(copy), T_world_sensor);
 }
 
@@ -421,6 +469,7 @@ OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,
   result.deskewed_points = std::move(frame.scan.scan.points);
   result.labels = std::move(frame.scan.labels);
   result.normals = std::move(frame.scan.normals);
+  result.moving = std::move(frame.moving);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "core/geometry/se3.hpp"
 #include "core/map/voxel_hash_map.hpp"
 #include "core/odometry/frame_downsample.hpp"
+#include "core/odometry/moving_points.hpp"
 #include "core/odometry/odometry_config.hpp"
 #include "core/odometry/odometry_result.hpp"
 #include "core/preprocess/classified_scan.hpp"
@@ -60,9 +61,13 @@ class Odometry {
     SourcePoints source;                 // the downsampled registration source
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();   // constant-velocity prediction
     Eigen::Isometry3d T_guess = Eigen::Isometry3d::Identity();  // where registration started
+    std::vector<std::uint8_t> moving;    // per point of scan; empty: nothing judged moving
   };
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
-  SourcePoints SelectSource(const ClassifiedScan& scan);
+  SourcePoints SelectSource(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving);
+  void DetectMoving(Frame& frame, double dt);
+  double MidScanStamp(double t_start) const;
+  std::size_t RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor);
   // The constant-velocity prediction's prior over a scan interval dt.
   MotionPrior Prior(double dt, bool holds);
   void CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const;
@@ -72,7 +77,8 @@ class Odometry {
   Matrix6d PoseCovariance(const RegistrationResult& reg);
   void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(Frame& frame);
-  void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor);
+  void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
+                 const std::vector<std::uint8_t>& moving = {});
   OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
   // The steps of RegisterAndUpdate, in order.
   OdometryResult NewResult(const ClassifiedScan& scan);
@@ -89,8 +95,8 @@ class Odometry {
   OdometryResult Unregistered(OdometryResult result, const Frame& frame) const;
   void UpdateMotionModel(const Frame& frame, const RegistrationResult& reg, double dt,
                          OdometryStatus status);
-  void InsertIntoMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
-                     bool defer);
+  void InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving,
+                     const Eigen::Isometry3d& T_world_sensor, bool defer);
   OdometryResult Finish(OdometryResult result, Frame&& frame, const Eigen::Isometry3d& T_new);
 
   OdometryConfig config_;
@@ -100,6 +106,8 @@ class Odometry {
   VoxelHashMap map_;
   ShapeCache map_shapes_;  // the shapes registration judged on map_, kept while map_ keeps them
   AdaptiveThreshold threshold_;
+  MovingPoints moving_;
+  std::uint64_t scans_since_removal_ = 0;
   bool initialised_ = false;
   double last_stamp_ = 0.0;
   std::uint64_t next_index_ = 0;

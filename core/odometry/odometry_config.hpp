@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/map/map_config.hpp"
+#include "core/odometry/moving_points.hpp"
 #include "core/odometry/translation_filter.hpp"
 #include "core/preprocess/preprocess_config.hpp"
 #include "core/registration/registration_config.hpp"
@@ -17,6 +18,10 @@ struct OdometryConfig {
   // Full mode's motion prior: how far the carrier departs from constant velocity. The
   // defaults fit a hand-held sensor and serve wheeled and legged carriers too.
   TranslationFilter::Config motion_prior;
+  // Points on things that move (people, vehicles, doors) are kept out of registration and out
+  // of the map, and map points that have since moved away are removed.
+  MovingPointsConfig moving;
+  int remove_moved_away_every = 5;  // scans between two passes of that removal
   double max_angular_acceleration = 5.0;  // rad/s^2: orientation prior sigma = this * dt^2
   // In-scan motion. The deskew velocity is one scan old: a hand's 4-9 Hz shake turns the
   // sensor at up to ~0.3 rad/s and reverses within a scan, a trot pitches at 2.5-3 Hz, a

@@ -85,6 +85,10 @@ struct OdometryResult {
   std::vector<Eigen::Vector3d> deskewed_points;
   std::vector<PointClass> labels;
   std::vector<Eigen::Vector3f> normals;
+  // Per deskewed point, 1 where it lies on something that moves (config.moving.enabled; else
+  // empty). Such points were left out of registration and of the map.
+  std::vector<std::uint8_t> moving;
+  std::size_t map_points_moved_away = 0;  // removed from the map by this scan
 };
 
 }  // namespace dammloam

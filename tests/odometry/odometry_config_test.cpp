@@ -127,6 +127,19 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_EQ(ErrorOf(""), "");  // empty document = all defaults
 }
 
+TEST(OdometryConfigYaml, MovingPointsAreReadAndTheirMistakesNameTheKey) {
+  const OdometryConfig c = io::ParseOdometryConfig(YAML::Load(
+      "moving: {enabled: true, margin: 0.5, min_evidence: 7, remove_moved_away_every: 2}\n"));
+  EXPECT_TRUE(c.moving.enabled);
+  EXPECT_DOUBLE_EQ(c.moving.margin, 0.5);
+  EXPECT_EQ(c.moving.min_evidence, 7);
+  EXPECT_EQ(c.remove_moved_away_every, 2);
+  EXPECT_NE(ErrorOf("moving: {margin: -1}").find("moving.margin: must be > 0"), std::string::npos);
+  EXPECT_NE(ErrorOf("moving: {min_evidence_share: 2}").find("moving.min_evidence_share"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("moving: {enable: true}").find("moving.enable: unknown key"), std::string::npos);
+}
+
 TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("map: {voxle_size: 1}").find("map.voxle_size: unknown key"), std::string::npos);
   EXPECT_NE(ErrorOf("registration: {max_iterations: many}").find("registration.max_iterations"),

@@ -1,0 +1,47 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "core/geometry/scan.hpp"
+
+namespace dammloam {
+
+// What space one scan's rays crossed: the nearest return per direction on a coarse spherical
+// grid, with the pose the scan was taken from. A point of another scan that lies well short of
+// every return around its direction sat in space this scan saw through, so whatever is there
+// now was not there then (the visibility test of Removert and of free-space methods such as
+// DUFOMap, here against one past scan instead of a volumetric map).
+class DepthView {
+ public:
+  struct Config {
+    // Cells a little wider than the sensor's own pixels, so every cell of a scanned row holds
+    // a return; never finer than this.
+    double min_azimuth_step_deg = 0.5;
+    int columns_per_cell = 2;
+  };
+
+  // points_sensor: the scan in the frame of T_world_sensor (deskewed).
+  DepthView(const Config& config, const SensorModel& sensor,
+            const std::vector<Eigen::Vector3d>& points_sensor,
+            const Eigen::Isometry3d& T_world_sensor);
+
+  // Whether every cell in the 3 x 3 block around the direction of p_world holds a return that
+  // lies more than `margin` beyond p_world. Empty cells (sky, absorbed) say nothing, and the
+  // block's nearest return decides, so a depth edge never counts as seen through.
+  bool SeesThrough(const Eigen::Vector3d& p_world, double margin) const;
+
+  const Eigen::Isometry3d& pose() const { return T_world_sensor_; }
+
+ private:
+  // Cell of a sensor-frame direction; false when its elevation lies outside the sensor's view.
+  bool CellOf(const Eigen::Vector3d& q, int& row, int& col) const;
+
+  Eigen::Isometry3d T_world_sensor_;
+  Eigen::Isometry3d T_sensor_world_;
+  int rows_ = 0, cols_ = 0;
+  double el_min_ = 0.0, el_step_ = 1.0, az_step_ = 1.0;
+  std::vector<float> nearest_;  // rows_ * cols_, 0 = no return
+};
+
+}  // namespace dammloam
