@@ -122,6 +122,8 @@ void ReadMoving(Section s, OdometryConfig& c) {
   s.Get("min_evidence", m.min_evidence);
   s.Get("min_evidence_share", m.min_evidence_share);
   s.Get("max_object_extent", m.max_object_extent);
+  s.Get("map_after", m.map_after);
+  s.Get("map_after_max_gap", m.map_after_max_gap);
   s.Get("remove_moved_away_every", c.remove_moved_away_every);
   s.RejectUnknownKeys();
 }
@@ -270,6 +272,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(mv.min_evidence_share >= 0.0 && mv.min_evidence_share <= 1.0, "moving.min_evidence_share",
           "must be in [0, 1]");
   Require(mv.max_object_extent > 0.0, "moving.max_object_extent", "must be > 0");
+  Require(mv.map_after >= 0.0, "moving.map_after", "must be >= 0");
+  Require(mv.map_after_max_gap > 0.0, "moving.map_after_max_gap", "must be > 0");
   Require(c.remove_moved_away_every >= 1, "moving.remove_moved_away_every", "must be >= 1");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");

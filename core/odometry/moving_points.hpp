@@ -29,6 +29,10 @@ struct MovingPointsConfig {
   int min_evidence = 3;
   double min_evidence_share = 0.2;
   double max_object_extent = 6.0;   // metres, horizontal
+  // A place enters the map only after scans have found a surface there for this long (seconds;
+  // 0: at once): what walks through, or ahead of the sensor, never does (PersistenceFilter).
+  double map_after = 0.5;
+  double map_after_max_gap = 0.35;  // seconds without a point there that start it over
   DepthView::Config view;
 };
 

@@ -52,6 +52,14 @@ void TransformScan(const Eigen::Isometry3d& T, ClassifiedScan& scan) {
   });
 }
 
+PersistenceFilter::Config PersistenceConfig(double map_voxel, const MovingPointsConfig& moving) {
+  PersistenceFilter::Config config;
+  config.voxel_size = map_voxel;
+  config.min_age = moving.map_after;
+  config.max_gap = moving.map_after_max_gap;
+  return config;
+}
+
 // Drops the indices of moving points (moving empty: none moves).
 void WithoutMoving(std::vector<std::size_t>& indices, const std::vector<std::uint8_t>& moving) {
   if (moving.empty()) return;
@@ -80,6 +88,7 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
       threshold_(config.registration.initial_threshold,
                  config.registration.min_motion_threshold, config.map.max_distance),
       moving_(config.moving, sensor),
+      persistence_(PersistenceConfig(AutoVoxelSize(config.map, 0.0), config.moving)),
       translation_filter_(config.motion_prior) {}
 
 // A rotation error displaces a point in proportion to its range. KISS-ICP measures it at the
@@ -99,6 +108,7 @@ void Odometry::Initialise(Frame& frame) {
   const double median_range = MedianRange(frame.scan.scan.points);
   map_ = VoxelHashMap(AutoVoxelSize(config_.map, median_range), config_.map.max_distance,
                       config_.map.max_points_per_voxel);
+  persistence_ = PersistenceFilter(PersistenceConfig(map_.voxel_size(), config_.moving));
   threshold_ = AdaptiveThreshold(config_.registration.initial_threshold,
                                  config_.registration.min_motion_threshold,
                                  ThresholdReferenceRange(median_range));
@@ -114,6 +124,7 @@ void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
   T_world_last_ = DeskewToMidScan(first, velocity).inverse();
   map_ = VoxelHashMap(map_.voxel_size(), config_.map.max_distance,
                       config_.map.max_points_per_voxel);
+  persistence_.Clear();
   UpdateMap(first, T_world_last_);
 }
 
@@ -122,8 +133,27 @@ void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_
   std::vector<std::size_t> kept = map_sampler_.Select(
       scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
   WithoutMoving(kept, moving);
+  KeepPersistent(kept, scan, T_world_sensor);
   map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
               Gather(scan.normals, kept), T_world_sensor);
+}
+
+void Odometry::KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedScan& scan,
+                              const Eigen::Isometry3d& T_world_sensor) {
+  if (!config_.moving.enabled || !(config_.moving.map_after > 0.0)) return;
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(kept.size());
+  for (std::size_t i : kept) world.push_back(T_world_sensor * scan.scan.points[i]);
+  if (map_.empty()) {
+    persistence_.Accept(world, T_world_sensor.translation(), scan.scan.t_start);
+    return;
+  }
+  const std::vector<std::uint8_t> persistent = persistence_.Observe(world, T_world_sensor.translation(), scan.scan.t_start);
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    if (persistent[k]) kept[n++] = kept[k];
+  }
+  kept.resize(n);
 }
 
 // Deskew with the constant-velocity motion over one period, then express the scan in the frame
@@ -443,6 +473,7 @@ void Odometry::InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::
     return;
   }
   ClassifiedScan copy;
+  copy.scan.t_start = scan.scan.t_start;
   std::vector<std::size_t> kept(scan.scan.points.size());
   for (std::size_t i = 0; i < kept.size(); ++i) kept[i] = i;
   WithoutMoving(kept, moving);

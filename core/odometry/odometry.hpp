@@ -7,6 +7,7 @@
 
 #include "core/geometry/scan.hpp"
 #include "core/geometry/se3.hpp"
+#include "core/map/persistence_filter.hpp"
 #include "core/map/voxel_hash_map.hpp"
 #include "core/odometry/frame_downsample.hpp"
 #include "core/odometry/moving_points.hpp"
@@ -79,6 +80,9 @@ class Odometry {
   void Initialise(Frame& frame);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
                  const std::vector<std::uint8_t>& moving = {});
+  // Of the map candidates, those whose place has persisted (all of them on the first scan).
+  void KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedScan& scan,
+                      const Eigen::Isometry3d& T_world_sensor);
   OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
   // The steps of RegisterAndUpdate, in order.
   OdometryResult NewResult(const ClassifiedScan& scan);
@@ -107,6 +111,7 @@ class Odometry {
   ShapeCache map_shapes_;  // the shapes registration judged on map_, kept while map_ keeps them
   AdaptiveThreshold threshold_;
   MovingPoints moving_;
+  PersistenceFilter persistence_;
   std::uint64_t scans_since_removal_ = 0;
   bool initialised_ = false;
   double last_stamp_ = 0.0;
