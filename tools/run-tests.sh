@@ -8,11 +8,14 @@
 #   tsan        every suite labelled tsan under ThreadSanitizer.
 # Prints the time of each stage at the end (also when a stage fails). The longer fuzzing and the
 # full soak are tools/run-tests-long.sh.
-# Environment: JOBS (default nproc), DAMMLOAM_SKIP_SANITIZERS=1 (release only),
+# Environment: JOBS (tests at once, default nproc), BUILD_JOBS (compile jobs, default JOBS + 1:
+# one more than the cores keeps them busy through links, PCH loads and the test discovery steps),
+# DAMMLOAM_SKIP_SANITIZERS=1 (release only),
 # DAMMLOAM_SKIP_FUZZ=1 (no fuzzing), FUZZ_SECONDS (default 20).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}
+BUILD_JOBS=${BUILD_JOBS:-$((JOBS + 1))}
 source tools/sanitizer-builds.sh
 
 STAGES=()
@@ -49,7 +52,7 @@ bash tools/check-floors.sh
 
 begin "release: build"
 configure_ninja build -DCMAKE_BUILD_TYPE=Release -DDAMMLOAM_BUILD_TESTS=ON
-cmake --build build -j"$JOBS"
+cmake --build build -j"$BUILD_JOBS"
 begin "release: tests"
 ctest --test-dir build --output-on-failure -j"$JOBS"
 
@@ -66,7 +69,7 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   if [ "${DAMMLOAM_SKIP_FUZZ:-0}" != "1" ]; then asan_targets+=(dammloam_fuzzers); fi
   target_args=()
   for t in "${asan_targets[@]}"; do target_args+=(--target "$t"); done
-  cmake --build build-asan -j"$JOBS" "${target_args[@]}"
+  cmake --build build-asan -j"$BUILD_JOBS" "${target_args[@]}"
   begin "asan+ubsan: tests"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$JOBS" -L sanitize -E "$ASAN_LONG_DRIVES"
@@ -84,7 +87,7 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   # Exported for the build too: gtest test discovery runs the instrumented test binaries.
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/support/tsan.supp"
   configure_tsan build-tsan
-  cmake --build build-tsan -j"$JOBS" --target dammloam_tests_tsan
+  cmake --build build-tsan -j"$BUILD_JOBS" --target dammloam_tests_tsan
   begin "tsan: tests"
   ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
 fi
