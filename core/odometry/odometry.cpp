@@ -232,7 +232,8 @@ OdometryResult Odometry::RegisterDeferringMap(ClassifiedScan&& scan) {
 double Odometry::CommitMap() {
   if (!pending_map_update_) return 0.0;
   Stopwatch watch;
-  UpdateMap(pending_map_update_->first, pending_map_update_->second);
+  UpdateMap(pending_map_update_->scan, pending_map_update_->T_world_sensor,
+            pending_map_update_->moving);
   pending_map_update_.reset();
   return watch.LapMs();
 }
@@ -472,15 +473,13 @@ void Odometry::InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::
     UpdateMap(scan, T_world_sensor, moving);
     return;
   }
+  // UpdateMap leaves the moving points out when the update is applied, as it does here.
   ClassifiedScan copy;
   copy.scan.t_start = scan.scan.t_start;
-  std::vector<std::size_t> kept(scan.scan.points.size());
-  for (std::size_t i = 0; i < kept.size(); ++i) kept[i] = i;
-  WithoutMoving(kept, moving);
-  copy.scan.points = Gather(scan.scan.points, kept);
-  copy.labels = Gather(scan.labels, kept);
-  copy.normals = Gather(scan.normals, kept);
-  pending_map_update_.emplace(std::move(copy), T_world_sensor);
+  copy.scan.points = scan.scan.points;
+  copy.labels = scan.labels;
+  copy.normals = scan.normals;
+  pending_map_update_.emplace(PendingMapUpdate{std::move(copy), T_world_sensor, moving});
 }
 
 OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,

@@ -129,7 +129,12 @@ class Odometry {
   // The first scan before deskewing, until the first registration has measured the motion.
   std::optional<ClassifiedScan> first_scan_raw_;
   // A deferred map update: the registered scan (mid-scan frame) and its pose.
-  std::optional<std::pair<ClassifiedScan, Eigen::Isometry3d>> pending_map_update_;
+  struct PendingMapUpdate {
+    ClassifiedScan scan;
+    Eigen::Isometry3d T_world_sensor;
+    std::vector<std::uint8_t> moving;
+  };
+  std::optional<PendingMapUpdate> pending_map_update_;
 };
 
 }  // namespace dammloam
