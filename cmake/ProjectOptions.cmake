@@ -23,8 +23,15 @@ endif()
 # The compile flags every test executable shares (and tests/support's precompiled header with it).
 function(dammloam_test_flags target)
   # Test code itself is compiled at -O1: the code under test lives in the libraries (-O3), and
-  # gtest's macros at -O3 cost about 1.6x the compile time for nothing a test measures.
-  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  # gtest's macros at -O3 cost about 1.6x the compile time for nothing a test measures. In the
+  # sanitizer builds it is -O0 (the libraries stay at -O1): clang with ASan+UBSan compiled a
+  # test file in half the time (registration_test.cpp 22.1 -> 10.9 s), and what the suites
+  # check runs in the instrumented libraries.
+  if(DAMMLOAM_SANITIZE OR DAMMLOAM_TSAN)
+    target_compile_options(${target} PRIVATE -O0)
+  else()
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  endif()
   target_compile_definitions(${target} PRIVATE
     DAMMLOAM_SHARED_DATA_DIR="${CMAKE_SOURCE_DIR}/../shared/data"
     DAMMLOAM_SOURCE_DIR="${CMAKE_SOURCE_DIR}"

@@ -11,7 +11,7 @@
 # Environment: JOBS (tests at once, default nproc), BUILD_JOBS (compile jobs, default JOBS + 1:
 # one more than the cores keeps them busy through links, PCH loads and the test discovery steps),
 # DAMMLOAM_SKIP_SANITIZERS=1 (release only),
-# DAMMLOAM_SKIP_FUZZ=1 (no fuzzing), FUZZ_SECONDS (default 20).
+# DAMMLOAM_SKIP_FUZZ=1 (no fuzzing), FUZZ_SECONDS (default 10; tools/run-tests-long.sh fuzzes 600 s each).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}
@@ -77,8 +77,8 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   if [ "${DAMMLOAM_SKIP_FUZZ:-0}" != "1" ]; then
     # libFuzzer targets of every parser of outside bytes (tests/fuzz), from the same build: the
     # kept crash inputs of tests/fuzz/regressions are replayed, then FUZZ_SECONDS of fuzzing each.
-    begin "fuzz: ${FUZZ_SECONDS:-20} s per target"
-    FUZZ_BUILD_DIR=build-asan JOBS="$JOBS" bash tools/fuzz.sh "${FUZZ_SECONDS:-20}"
+    begin "fuzz: ${FUZZ_SECONDS:-10} s per target"
+    FUZZ_BUILD_DIR=build-asan JOBS="$JOBS" bash tools/fuzz.sh "${FUZZ_SECONDS:-10}"
   fi
 
   # The daemon's threaded pipeline and its queues (system), the threaded use of the odometry
