@@ -8,6 +8,33 @@
 
 namespace dammloam::backend {
 
+namespace {
+
+// A keyframe keeps the scan without its moving points: people and cars in its cloud would be
+// matched by loop verification at their old places and saved into the map as trails.
+void KeepStaticPoints(const OdometryResult& result, Keyframe& kf) {
+  if (result.labels.size() != result.deskewed_points.size()) {
+    kf.points = result.deskewed_points;
+    return;
+  }
+  const auto moving = static_cast<std::size_t>(
+      std::count(result.labels.begin(), result.labels.end(), PointClass::Moving));
+  if (moving == 0) {
+    kf.points = result.deskewed_points;
+    kf.labels = result.labels;
+    return;
+  }
+  kf.points.reserve(result.labels.size() - moving);
+  kf.labels.reserve(result.labels.size() - moving);
+  for (std::size_t i = 0; i < result.labels.size(); ++i) {
+    if (result.labels[i] == PointClass::Moving) continue;
+    kf.points.push_back(result.deskewed_points[i]);
+    kf.labels.push_back(result.labels[i]);
+  }
+}
+
+}  // namespace
+
 LoopClosingBackend::LoopClosingBackend(const BackendConfig& config)
     : config_(config),
       verifier_(config.verifier),
@@ -35,8 +62,7 @@ void LoopClosingBackend::AddScan(const OdometryResult& result) {
     kf.T_world_sensor_odom = result.T_world_sensor;
     kf.T_world_sensor = result.T_world_sensor;
     kf.edge_covariance = covariance_since_keyframe_;
-    kf.points = result.deskewed_points;
-    if (result.labels.size() == result.deskewed_points.size()) kf.labels = result.labels;
+    KeepStaticPoints(result, kf);
     pending.path_length = path_length_;
     inbox_.push_back(std::move(pending));
     keyframe_scans_.push_back(result.scan_index);

@@ -78,4 +78,12 @@ bool DepthView::SeesThrough(const Eigen::Vector3d& p_world, double margin) const
   return true;
 }
 
+bool DepthView::Hides(const Eigen::Vector3d& p_world, double margin) const {
+  const Eigen::Vector3d q = T_sensor_world_ * p_world;
+  int row = 0, col = 0;
+  if (!CellOf(q, row, col)) return false;
+  const float nearest = nearest_[static_cast<std::size_t>(row) * cols_ + col];
+  return nearest > 0.0f && nearest < static_cast<float>(q.norm() - margin);
+}
+
 }  // namespace dammloam

@@ -31,6 +31,10 @@ class DepthView {
   // block's nearest return decides, so a depth edge never counts as seen through.
   bool SeesThrough(const Eigen::Vector3d& p_world, double margin) const;
 
+  // Whether the return in the direction of p_world lies more than `margin` short of it: the
+  // place was hidden behind something when this view was taken.
+  bool Hides(const Eigen::Vector3d& p_world, double margin) const;
+
   const Eigen::Isometry3d& pose() const { return T_world_sensor_; }
 
  private:

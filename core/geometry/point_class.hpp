@@ -5,11 +5,22 @@
 
 namespace dammloam {
 
-// The five geometric classes of the paper (Sec. III-A.3). Values are part of the wire and file
-// formats (PCD label field, LabelledCloud topic): never renumber.
-enum class PointClass : std::uint8_t { Unknown = 0, Ground = 1, Roof = 2, Wall = 3, Edge = 4 };
+// The five geometric classes of the paper (Sec. III-A.3), which the classifier gives, and
+// Moving: a point on something that moves (core/odometry/moving_points.hpp), which the odometry
+// gives in place of the geometric class once it has left the point out of registration and map.
+// Values are part of the wire and file formats (PCD label field, LabelledCloud topic): never
+// renumber.
+enum class PointClass : std::uint8_t {
+  Unknown = 0,
+  Ground = 1,
+  Roof = 2,
+  Wall = 3,
+  Edge = 4,
+  Moving = 5
+};
 
-inline constexpr std::size_t kNumPointClasses = 5;
+inline constexpr std::size_t kNumGeometricClasses = 5;  // Unknown .. Edge
+inline constexpr std::size_t kNumPointClasses = 6;
 
 using ClassCounts = std::array<std::uint32_t, kNumPointClasses>;
 
@@ -26,6 +37,7 @@ constexpr std::string_view Name(PointClass c) {
     case PointClass::Roof: return "roof";
     case PointClass::Wall: return "wall";
     case PointClass::Edge: return "edge";
+    case PointClass::Moving: return "moving";
     case PointClass::Unknown: break;
   }
   return "unknown";

@@ -8,6 +8,7 @@
 #include "core/geometry/depth_view.hpp"
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/scan.hpp"
+#include "core/map/voxel_hash_map.hpp"
 
 namespace dammloam {
 
@@ -29,6 +30,14 @@ struct MovingPointsConfig {
   int min_evidence = 3;
   double min_evidence_share = 0.2;
   double max_object_extent = 6.0;   // metres, horizontal
+  // Something walking away along the line of sight stands where a past scan could not look (its
+  // own earlier body hid the place). Its evidence is the space it vacated: past points the scan
+  // now sees through. A point counts when it was hidden then, lies within vacated_reach of such
+  // vacated space, is not explained by the map (no map point within unmapped_distance), and
+  // belongs to a compact object (never a wall it stands in front of).
+  double vacated_reach = 2.0;       // metres: walking speed times the oldest view age, and a body
+  double unmapped_distance = 0.3;   // metres
+  double vacated_sample = 0.15;     // metres: past points kept per cell of this size, for the test
   // A place enters the map only after scans have found a surface there for this long (seconds;
   // 0: at once): what walks through, or ahead of the sensor, never does (PersistenceFilter).
   double map_after = 0.5;
@@ -45,13 +54,17 @@ class MovingPoints {
   MovingPoints(const MovingPointsConfig& config, const SensorModel& sensor);
 
   // 1 per moving point of points_sensor (the scan in the frame of T_world_sensor, taken at
-  // `stamp`), else 0.
+  // `stamp`), else 0. `map` (optional): the local map, which explains static surfaces that
+  // were hidden from the past views.
   std::vector<std::uint8_t> Detect(const std::vector<Eigen::Vector3d>& points_sensor,
                                    const std::vector<PointClass>& labels,
-                                   const Eigen::Isometry3d& T_world_sensor, double stamp) const;
-  // Remembers a registered scan's view; views older than the oldest age tested are dropped.
+                                   const Eigen::Isometry3d& T_world_sensor, double stamp,
+                                   const VoxelHashMap* map = nullptr) const;
+  // Remembers a registered scan's view and a sample of its points that can move; views older
+  // than the oldest age tested are dropped.
   void AddView(const std::vector<Eigen::Vector3d>& points_sensor,
-               const Eigen::Isometry3d& T_world_sensor, double stamp);
+               const std::vector<PointClass>& labels, const Eigen::Isometry3d& T_world_sensor,
+               double stamp);
   // The newest view, for the map's removal of what has since moved away; nullptr before any.
   const DepthView* newest_view() const { return views_.empty() ? nullptr : &views_.back().view; }
   double Margin(double distance) const { return config_.margin + config_.margin_per_metre * distance; }
@@ -61,13 +74,22 @@ class MovingPoints {
   struct StampedView {
     double stamp;
     DepthView view;
+    std::vector<Eigen::Vector3d> sample_world;  // points that can move, one per vacated_sample cell
   };
+  // Evidence bits: the point sits where a past view saw through (kSeenThrough); it was hidden
+  // from a past view and stands next to space vacated since (kNextToVacated).
+  static constexpr std::uint8_t kSeenThrough = 1, kNextToVacated = 2;
   // The views Detect tests: for each age, the newest view at least that old.
-  std::vector<const DepthView*> ViewsToTest(double stamp) const;
+  std::vector<const StampedView*> ViewsToTest(double stamp) const;
   std::vector<std::uint8_t> Evidence(const std::vector<Eigen::Vector3d>& points_sensor,
                                      const std::vector<PointClass>& labels,
                                      const Eigen::Isometry3d& T_world_sensor,
-                                     const std::vector<const DepthView*>& views) const;
+                                     const std::vector<const StampedView*>& views) const;
+  // Adds kNextToVacated to the points of `evidence` it applies to.
+  void NextToVacated(const std::vector<Eigen::Vector3d>& points_sensor,
+                     const std::vector<PointClass>& labels, const Eigen::Isometry3d& T_world_sensor,
+                     const std::vector<const StampedView*>& views, const VoxelHashMap& map,
+                     std::vector<std::uint8_t>& evidence) const;
   void SpreadOverObjects(const std::vector<Eigen::Vector3d>& points_sensor,
                          const std::vector<PointClass>& labels,
                          std::vector<std::uint8_t>& moving) const;

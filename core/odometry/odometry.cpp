@@ -68,6 +68,20 @@ void WithoutMoving(std::vector<std::size_t>& indices, const std::vector<std::uin
                 indices.end());
 }
 
+// The published labels: a moving point's class is Moving, whatever its shape, and the class
+// counts follow (they still sum to the scan's points).
+void LabelMoving(const std::vector<std::uint8_t>& moving, std::vector<PointClass>& labels,
+                 ClassCounts& counts) {
+  if (moving.size() != labels.size()) return;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (moving[i] == 0 || labels[i] == PointClass::Moving) continue;
+    std::uint32_t& count = counts[Index(labels[i])];
+    if (count > 0) --count;
+    labels[i] = PointClass::Moving;
+    ++counts[Index(PointClass::Moving)];
+  }
+}
+
 template <typename T>
 std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
   std::vector<T> out;
@@ -268,7 +282,8 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   }
   InsertIntoMap(frame.scan, frame.moving, T_new, defer_map);
   if (config_.moving.enabled) {
-    moving_.AddView(frame.scan.scan.points, T_new, MidScanStamp(frame.scan.scan.t_start));
+    moving_.AddView(frame.scan.scan.points, frame.scan.labels, T_new,
+                    MidScanStamp(frame.scan.scan.t_start));
     result.map_points_moved_away = RemoveMovedAway(T_new);
   }
   result.timings.map_update_ms = watch.LapMs();
@@ -329,7 +344,7 @@ void Odometry::DetectMoving(Frame& frame, double dt) {
   if (!config_.moving.enabled) return;
   const Eigen::Isometry3d T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
   frame.moving = moving_.Detect(frame.scan.scan.points, frame.scan.labels, T_pred,
-                                MidScanStamp(frame.scan.scan.t_start));
+                                MidScanStamp(frame.scan.scan.t_start), &map_);
 }
 
 // Map points that the newest scan saw through are gone from where they were mapped: a car
@@ -498,6 +513,7 @@ OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,
                             t.downsample_ms + t.registration_ms + t.map_update_ms;
   result.deskewed_points = std::move(frame.scan.scan.points);
   result.labels = std::move(frame.scan.labels);
+  LabelMoving(frame.moving, result.labels, result.class_counts);
   result.normals = std::move(frame.scan.normals);
   result.moving = std::move(frame.moving);
   return result;

@@ -28,6 +28,8 @@ ClassAwareDownsampler::ClassAwareDownsampler(const DownsampleConfig& config) : c
   voxel_sizes_[Index(PointClass::Roof)] = config.initial_voxel_roof;
   voxel_sizes_[Index(PointClass::Wall)] = config.initial_voxel_wall;
   voxel_sizes_[Index(PointClass::Edge)] = config.initial_voxel_edge;
+  // The classifier gives no moving points; should a caller pass some, they sample as unknown.
+  voxel_sizes_[Index(PointClass::Moving)] = config.initial_voxel_unknown;
   for (double& size : voxel_sizes_) size = std::clamp(size, config.min_voxel, config.max_voxel);
 }
 

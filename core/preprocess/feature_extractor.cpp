@@ -24,19 +24,27 @@ void DiscardIfInconsistent(std::vector<T>& field, std::size_t n) {
   if (field.size() != n) field.clear();
 }
 
+// Point i passes: finite (point and time) and within [min_range, max_range]. The scan's
+// optional fields are already consistent (empty or one per point).
+struct ValidPoint {
+  const Scan& scan;
+  double min2, max2;
+  ValidPoint(const Scan& s, double min_range, double max_range)
+      : scan(s), min2(min_range * min_range), max2(max_range * max_range) {}
+  bool operator()(std::size_t i) const {
+    const double r2 = scan.points[i].squaredNorm();  // NaN/inf fail both comparisons below
+    return r2 >= min2 && r2 <= max2 && scan.points[i].allFinite() &&
+           (scan.times.size() != scan.points.size() || std::isfinite(scan.times[i]));
+  }
+};
+
 // Compacts every per-point vector to the points that pass; returns how many were dropped.
 std::size_t RemoveInvalidPoints(Scan& scan, double min_range, double max_range) {
   const std::size_t n = scan.points.size();
   DiscardIfInconsistent(scan.intensities, n);
   DiscardIfInconsistent(scan.times, n);
   DiscardIfInconsistent(scan.rings, n);
-  const double min2 = min_range * min_range;
-  const double max2 = max_range * max_range;
-  const auto keep = [&](std::size_t i) {
-    const double r2 = scan.points[i].squaredNorm();  // NaN/inf fail both comparisons below
-    return r2 >= min2 && r2 <= max2 && scan.points[i].allFinite() &&
-           (scan.times.empty() || std::isfinite(scan.times[i]));
-  };
+  const ValidPoint keep(scan, min_range, max_range);
   // Where the first point to drop is (n: none), found by all threads: the points before it
   // stay where they are.
   const std::size_t first_dropped = tbb::parallel_reduce(
@@ -75,6 +83,13 @@ FeatureExtractor::FeatureExtractor(const PreprocessConfig& config, const SensorM
       min_range_(std::max(config.min_range, sensor.min_range)),
       max_range_(sensor.max_range > 0.0 ? std::min(config.max_range, sensor.max_range)
                                         : config.max_range) {}
+
+std::vector<std::uint8_t> FeatureExtractor::KeptPoints(const Scan& scan) const {
+  const ValidPoint keep(scan, min_range_, max_range_);
+  std::vector<std::uint8_t> kept(scan.points.size());
+  for (std::size_t i = 0; i < kept.size(); ++i) kept[i] = keep(i) ? 1 : 0;
+  return kept;
+}
 
 ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor) const {
   ClassifiedScan out;

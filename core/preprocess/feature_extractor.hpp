@@ -1,5 +1,7 @@
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
+#include <vector>
 
 #include "core/geometry/scan.hpp"
 #include "core/preprocess/classified_scan.hpp"
@@ -23,6 +25,9 @@ class FeatureExtractor {
   // used to judge up/down and vertical surfaces. Optional per-point fields (intensities, times,
   // rings) whose size is neither 0 nor points.size() are discarded as unusable.
   ClassifiedScan Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor) const;
+  // 1 for each point of `scan` that Extract keeps (the others are dropped; the kept keep their
+  // order): how an evaluation matches per-point truth to a result's points.
+  std::vector<std::uint8_t> KeptPoints(const Scan& scan) const;
 
  private:
   PreprocessConfig config_;

@@ -86,7 +86,7 @@ TEST(MovingPoints, APersonWhereTheRoomWasSeenThroughMovesAndTheRoomDoesNot) {
   before.solids.push_back(Person(4.0, -2.5));
   std::vector<int> surfaces_before;
   const Scan earlier = CastScan(lidar, before, At(0, 0), &surfaces_before);
-  detector.AddView(earlier.points, At(0, 0), 0.0);
+  detector.AddView(earlier.points, Labels(surfaces_before), At(0, 0), 0.0);
   Scene now = Room();
   now.solids.push_back(Person(4.0, 1.5));
   std::vector<int> surfaces;
@@ -111,7 +111,7 @@ TEST(MovingPoints, AStandingPersonAndAStaticRoomSeenFromAMovingSensorDoNotMove) 
     const Scan scan = CastScan(lidar, scene, T, &surfaces);
     const Counts c = Count(surfaces, detector.Detect(scan.points, Labels(surfaces), T, 0.1 * k));
     EXPECT_EQ(c.person_moving + c.other_moving, 0) << "scan " << k;
-    detector.AddView(scan.points, T, 0.1 * k);
+    detector.AddView(scan.points, Labels(surfaces), T, 0.1 * k);
   }
 }
 
@@ -120,8 +120,9 @@ TEST(MovingPoints, NothingMovesWithoutAViewOldEnough) {
   MovingPointsConfig config;
   config.view_ages = {0.5};
   MovingPoints detector(config, lidar.Model());
-  const Scan empty_room = CastScan(lidar, Room(), At(0, 0), nullptr);
-  detector.AddView(empty_room.points, At(0, 0), 0.0);
+  std::vector<int> room_surfaces;
+  const Scan empty_room = CastScan(lidar, Room(), At(0, 0), &room_surfaces);
+  detector.AddView(empty_room.points, Labels(room_surfaces), At(0, 0), 0.0);
   Scene now = Room();
   now.solids.push_back(Person(3.0, 0.0));
   std::vector<int> surfaces;
@@ -130,6 +131,41 @@ TEST(MovingPoints, NothingMovesWithoutAViewOldEnough) {
   EXPECT_EQ(Count(surfaces, young).person_moving, 0);
   const auto old_enough = detector.Detect(scan.points, Labels(surfaces), At(0, 0), 0.6);
   EXPECT_GT(Count(surfaces, old_enough).person_moving, 0);
+}
+
+// A person walking away along the line of sight stands where the last views could not look: its
+// own earlier body hid the place. The space it vacated, now seen through, is the evidence. The
+// wall behind, revealed only now, is explained by the map and does not move.
+TEST(MovingPoints, APersonWalkingAwayAlongTheLineOfSightMovesAndTheRoomDoesNot) {
+  const SyntheticLidar lidar;
+  MovingPointsConfig config;
+  config.enabled = true;
+  MovingPoints detector(config, lidar.Model());
+  std::vector<int> room_surfaces;
+  const Scan room = CastScan(lidar, Room(), At(0, 0), &room_surfaces);
+  VoxelHashMap map(0.3, 100.0, 3);
+  map.Update(room.points, Labels(room_surfaces), {}, At(0, 0));
+  for (int k = 0; k <= 10; ++k) {  // one second of walking away at 1.2 m/s, 10 scans
+    Scene scene = Room();
+    scene.solids.push_back(Person(2.0 + 0.12 * k, 0.0));
+    std::vector<int> surfaces;
+    const Scan scan = CastScan(lidar, scene, At(0, 0), &surfaces);
+    const std::vector<std::uint8_t> moving =
+        detector.Detect(scan.points, Labels(surfaces), At(0, 0), 0.1 * k, &map);
+    const Counts c = Count(surfaces, moving);
+    if (k >= 5) {  // a view half a second old
+      ASSERT_GT(c.person, 100) << "scan " << k;
+      EXPECT_GE(c.person_moving, 0.9 * c.person) << "scan " << k;
+    }
+    EXPECT_EQ(c.other_moving, 0) << "scan " << k << ", of " << c.other << " static points";
+    // Without the map nothing says the place behind is not a wall just revealed.
+    if (k == 10) {
+      EXPECT_EQ(Count(surfaces, detector.Detect(scan.points, Labels(surfaces), At(0, 0), 1.0))
+                    .person_moving,
+                0);
+    }
+    detector.AddView(scan.points, Labels(surfaces), At(0, 0), 0.1 * k);
+  }
 }
 
 TEST(VoxelHashMapRemoval, APersonMappedThenSeenThroughIsRemovedAndTheRoomStays) {

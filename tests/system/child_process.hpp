@@ -25,7 +25,7 @@ class ChildProcess {
   ChildProcess(const std::string& tool, const std::vector<std::string>& args,
                const std::filesystem::path& log)
       : log_(log) {
-    std::vector<std::string> argv_storage{std::string(DAMMLOAM_BIN_DIR) + "/" + tool};
+    std::vector<std::string> argv_storage{(std::filesystem::path(DAMMLOAM_BIN_DIR) / tool).string()};
     argv_storage.insert(argv_storage.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : argv_storage) argv.push_back(a.data());
@@ -81,7 +81,7 @@ class ChildProcess {
 };
 
 inline bool ToolExists(const std::string& tool) {
-  return std::filesystem::exists(std::string(DAMMLOAM_BIN_DIR) + "/" + tool);
+  return std::filesystem::exists(std::filesystem::path(DAMMLOAM_BIN_DIR) / tool);
 }
 
 }  // namespace dammloam::test

@@ -221,7 +221,8 @@ TEST(Ros2PointCloud, WrongTypeForTimeIsRejectedNamingTheField) {
 
 TEST(Ros2PointCloud, TruncatedDataIsRejected) {
   CloudMessage msg = OusterCloud();
-  msg.data.resize(msg.data.size() - msg.point_step);
+  ASSERT_GE(msg.data.size(), msg.point_step);
+  msg.data.erase(msg.data.end() - msg.point_step, msg.data.end());
   ExpectError(ConvertRos2(msg), "payload_size", "payload is 3024 bytes but height x row_step = "
                                                 "3072 (truncated)");
 }

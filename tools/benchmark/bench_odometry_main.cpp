@@ -82,6 +82,7 @@ struct Options {
   std::string cache_dir;
   std::string json_path;
   std::string config_path;
+  std::vector<std::string> variant_specs;  // NAME=PATH: another config, as one more row
   bool per_scan = false;
   bool no_remap = false;
   bool quiet = false;
@@ -110,6 +111,8 @@ struct SeedResult {
   std::size_t registered = 0;
   std::size_t degenerate = 0;
   std::string failure;  // peers: why the run gave no result
+  bool has_truth = false;  // the scene has actors: moving_labels is scored
+  bench::MovingLabelScore moving_labels;
 };
 
 struct Row {
@@ -152,6 +155,10 @@ struct Aggregate {
   double iterations_median = 0, map_median = 0, map_max = 0;
   double searched_points_median = 0;
   double degenerate_share = 0, registered_share = 0;
+  // Moving labels against the simulator's truth, pooled over seeds, and the worst seed's.
+  bool has_truth = false;
+  bench::MovingLabelScore moving_labels;
+  double worst_precision = 1.0, worst_recall = 1.0, worst_static_flagged = 0.0;
 };
 
 Aggregate Summarise(const Row& row) {
@@ -173,6 +180,13 @@ Aggregate Summarise(const Row& row) {
     scans += s.scans;
     degenerate += s.degenerate;
     registered += s.registered;
+    if (s.has_truth) {
+      a.has_truth = true;
+      a.moving_labels += s.moving_labels;
+      a.worst_precision = std::min(a.worst_precision, s.moving_labels.Precision());
+      a.worst_recall = std::min(a.worst_recall, s.moving_labels.Recall());
+      a.worst_static_flagged = std::max(a.worst_static_flagged, s.moving_labels.StaticFlaggedShare());
+    }
   }
   if (a.seeds == 0) return a;
   a.ape_rmse_median = Median(ape_rmse);
@@ -200,6 +214,8 @@ SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const 
   r.seed = seed;
   r.scans = trace.scans.size();
   r.errors = bench::EvaluateEstimate(stream.ground_truth, trace.Estimate());
+  r.has_truth = static_cast<bool>(stream.labelled_scan);
+  r.moving_labels = trace.MovingLabels();
   for (const bench::ScanRecord& s : trace.scans) {
     const StageTimings& t = s.timings;
     r.features_ms.push_back(t.projection_ms + t.normals_ms + t.classification_ms);
@@ -318,11 +334,12 @@ void PrintPerScan(const bench::ScanStream& stream, const bench::ModeTrace& run) 
     const Eigen::Isometry3d est = run.scans[i - 1].T_world_sensor.inverse() * r.T_world_sensor;
     const Eigen::Vector3d e = (gt.inverse() * est).translation();
     std::printf("    %4zu %-12s it %2d corr %5u alpha %.2f  gt dt (%6.3f %6.3f %6.3f)  err (%6.3f "
-                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f) classes u%u g%u r%u w%u e%u\n",
+                "%6.3f %6.3f)  lambda (%.0f %.0f %.0f) classes u%u g%u r%u w%u e%u m%u\n",
                 i, std::string(Name(r.status)).c_str(), r.iterations, r.num_correspondences, r.alpha,
                 gt.translation().x(), gt.translation().y(), gt.translation().z(), e.x(), e.y(), e.z(),
                 r.eigenvalues[0], r.eigenvalues[1], r.eigenvalues[2], r.class_counts[0],
-                r.class_counts[1], r.class_counts[2], r.class_counts[3], r.class_counts[4]);
+                r.class_counts[1], r.class_counts[2], r.class_counts[3], r.class_counts[4],
+                r.class_counts[5]);
   }
 }
 
@@ -350,10 +367,11 @@ bool CacheComplete(const fs::path& dir, int scans) {
   }
 }
 
-GroupResult RunGroup(const Options& o, const Group& g, const std::vector<OdometryConfig>& configs) {
+GroupResult RunGroup(const Options& o, const Group& g, const std::vector<OdometryConfig>& configs,
+                     const std::vector<std::string>& row_names) {
   GroupResult result;
   result.group = g;
-  for (const OdometryConfig& c : configs) result.rows.push_back({std::string(Name(c.registration.mode)), false, {}});
+  for (const std::string& name : row_names) result.rows.push_back({name, false, {}});
   for (const Peer& p : o.peers) result.rows.push_back({p.name, true, {}});
   std::vector<double> sim_ms;
   for (const std::uint64_t seed : o.seeds) {
@@ -391,6 +409,14 @@ GroupResult RunGroup(const Options& o, const Group& g, const std::vector<Odometr
       produce_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       return scan;
     };
+    if (stream.labelled_scan) {
+      timed_stream.labelled_scan = [&stream, &produce_ms](std::size_t i, std::vector<std::uint8_t>& truth) {
+        const auto start = std::chrono::steady_clock::now();
+        Scan scan = stream.labelled_scan(i, truth);
+        produce_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        return scan;
+      };
+    }
     const auto on_scan = [&writer](const Scan& scan) {
       if (writer) writer->Write(scan);
     };
@@ -447,6 +473,18 @@ std::string SeedList(const std::vector<std::uint64_t>& seeds) {
   return s;
 }
 
+// Against the simulator's truth (bench::MovingLabelScore): labelled moving where the actor moved
+// more than 0.3 m in the last second.
+void PrintMovingLabels(const Aggregate& a) {
+  const bench::MovingLabelScore& m = a.moving_labels;
+  std::printf("  %-22s moving labels: precision %.1f %%, recall %.1f %%, static labelled moving "
+              "%.3f %% (pooled; worst seed %.1f / %.1f / %.3f %%; %zu moving, %zu static points%s)\n",
+              "", 100.0 * m.Precision(), 100.0 * m.Recall(), 100.0 * m.StaticFlaggedShare(),
+              100.0 * a.worst_precision, 100.0 * a.worst_recall, 100.0 * a.worst_static_flagged,
+              m.moving_found + m.moving_missed, m.static_points,
+              m.mismatched_scans ? ", some scans not scored" : "");
+}
+
 void PrintGroup(const Options& o, const GroupResult& r) {
   const Group& g = r.group;
   std::printf("\n%s / %s: %d scans x seeds %s (%s %.1f ms/scan), RSS at end %.0f MiB (peak %.0f), all modes\n",
@@ -495,6 +533,7 @@ void PrintGroup(const Options& o, const GroupResult& r) {
       std::printf("%3.0f %7s %4s/%-4s %4.0f%%\n", a.iterations_median,
                   Thousands(a.searched_points_median).c_str(), Kilo(a.map_median).c_str(),
                   Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
+      if (a.has_truth) PrintMovingLabels(a);
     }
   }
   std::fflush(stdout);
@@ -555,6 +594,18 @@ nlohmann::json ToJson(const GroupResult& r, const Options& o) {
                      {"median_frame_m", a.median_frame_m},
                      {"worst_to_median_frame", a.worst_ratio},
                      {"ms", {{"total", ToJson(a.total)}}}};
+    if (a.has_truth) {
+      const bench::MovingLabelScore& m = a.moving_labels;
+      e["moving_labels"] = {{"precision", m.Precision()},
+                            {"recall", m.Recall()},
+                            {"static_labelled_moving", m.StaticFlaggedShare()},
+                            {"worst_seed", {{"precision", a.worst_precision},
+                                            {"recall", a.worst_recall},
+                                            {"static_labelled_moving", a.worst_static_flagged}}},
+                            {"moving_points", m.moving_found + m.moving_missed},
+                            {"static_points", m.static_points},
+                            {"unscored_scans", m.mismatched_scans}};
+    }
     if (row.peer) {
       if (full_ms && a.total.median > 0) e["full_over_peer_ms"] = *full_ms / a.total.median;
     } else {
@@ -638,6 +689,9 @@ int main(int argc, char** argv) {
                  "keep simulated sequences here (sequence directory format) and reuse them");
   app.add_option("--json", o.json_path, "write all numbers to this JSON file (after every group)");
   app.add_option("--config", o.config_path, "odometry YAML config (the mode is overridden)");
+  app.add_option("--variant", o.variant_specs,
+                 "NAME=PATH: one more row, the odometry YAML config at PATH as it is (repeatable), "
+                 "e.g. moving=on.yaml beside the modes on the same scans");
   app.add_flag("--no-remap", o.no_remap, "full modes without solution remapping (weights only)");
   app.add_flag("--per-scan", o.per_scan, "print every scan's motion error (debugging)");
   app.add_flag("--quiet", o.quiet, "no progress on stderr");
@@ -672,6 +726,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<OdometryConfig> configs;
+  std::vector<std::string> row_names;
   for (const std::string& mode_name : o.modes) {
     const auto mode = ParseRegistrationMode(mode_name);
     if (!mode) {
@@ -682,6 +737,21 @@ int main(int argc, char** argv) {
     config.registration.mode = *mode;
     if (o.no_remap) config.registration.remap_degenerate_directions = false;
     configs.push_back(config);
+    row_names.push_back(mode_name);
+  }
+  for (const std::string& spec : o.variant_specs) {
+    const std::size_t eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
+      std::fprintf(stderr, "error: --variant '%s': expected NAME=PATH\n", spec.c_str());
+      return 2;
+    }
+    try {
+      configs.push_back(io::LoadOdometryConfig(spec.substr(eq + 1)));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: --variant %s: %s\n", spec.substr(0, eq).c_str(), e.what());
+      return 2;
+    }
+    row_names.push_back(spec.substr(0, eq));
   }
   if (configs.empty()) {
     std::fprintf(stderr, "error: no modes\n");
@@ -729,7 +799,7 @@ int main(int argc, char** argv) {
   for (const Group& g : groups) {
     GroupResult result;
     try {
-      result = RunGroup(o, g, configs);
+      result = RunGroup(o, g, configs, row_names);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "error: %s / %s: %s\n", g.label.c_str(), g.sensor.name.c_str(), e.what());
       return 1;

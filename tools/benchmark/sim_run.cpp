@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/odometry/pipeline.hpp"
+#include "core/preprocess/feature_extractor.hpp"
 #include "io/sequence_io.hpp"
 #include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"
@@ -104,6 +105,11 @@ ScanStream SimulatedStream(const sim::Simulator& simulator, int num_scans) {
     stream.ground_truth.push_back({t, simulator.PoseAt(t)});
   }
   stream.scan = [&simulator](std::size_t i) { return simulator.SimulateScan(static_cast<int>(i)); };
+  if (simulator.has_actors()) {
+    stream.labelled_scan = [&simulator](std::size_t i, std::vector<std::uint8_t>& truth) {
+      return simulator.SimulateScan(static_cast<int>(i), &truth);
+    };
+  }
   return stream;
 }
 
@@ -147,21 +153,35 @@ std::vector<io::StampedPose> ModeTrace::Estimate() const {
   return estimate;
 }
 
+MovingLabelScore ModeTrace::MovingLabels() const {
+  MovingLabelScore sum;
+  for (const ScanRecord& r : scans) sum += r.moving_labels;
+  return sum;
+}
+
 std::vector<ModeTrace> StreamModes(const ScanStream& stream,
                                    const std::vector<OdometryConfig>& configs,
                                    const std::function<void(const Scan&)>& on_scan,
                                    const std::function<void(std::size_t)>& progress) {
   std::vector<std::unique_ptr<OdometryPipeline>> pipelines;
+  std::vector<FeatureExtractor> extractors;  // which points each pipeline keeps
   std::vector<ModeTrace> traces(configs.size());
   for (std::size_t m = 0; m < configs.size(); ++m) {
     pipelines.push_back(std::make_unique<OdometryPipeline>(configs[m], stream.model));
+    extractors.emplace_back(configs[m].preprocess, stream.model);
     traces[m].mode = std::string(Name(configs[m].registration.mode));
     traces[m].scans.reserve(stream.size());
   }
+  std::vector<std::uint8_t> truth;
   for (std::size_t i = 0; i < stream.size(); ++i) {
-    const Scan scan = stream.scan(i);
+    const Scan scan = stream.labelled_scan ? stream.labelled_scan(i, truth) : stream.scan(i);
     for (std::size_t m = 0; m < pipelines.size(); ++m) {
-      traces[m].scans.push_back(ToRecord(pipelines[m]->Process(scan)));
+      const OdometryResult result = pipelines[m]->Process(scan);
+      traces[m].scans.push_back(ToRecord(result));
+      if (stream.labelled_scan) {
+        traces[m].scans.back().moving_labels =
+            ScoreMovingLabels(truth, extractors[m].KeptPoints(scan), result.labels);
+      }
     }
     if (on_scan) on_scan(scan);
     if (progress) progress(i + 1);

@@ -11,6 +11,7 @@
 #include "core/odometry/odometry_config.hpp"
 #include "core/odometry/odometry_result.hpp"
 #include "io/tum.hpp"
+#include "tools/benchmark/moving_label_score.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace dammloam::bench {
@@ -62,6 +63,8 @@ struct ScanStream {
   SensorModel model;
   std::vector<io::StampedPose> ground_truth;  // one per scan, stamp = scan start
   std::function<Scan(std::size_t)> scan;      // scan i, t_start = ground_truth[i].t
+  // Scan i with its per-point truth (sim::PointLabel); set only where the scene has actors.
+  std::function<Scan(std::size_t, std::vector<std::uint8_t>& truth)> labelled_scan;
   std::size_t size() const { return ground_truth.size(); }
 };
 
@@ -85,6 +88,7 @@ struct ScanRecord {
   Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();
   bool degenerate = false;  // registered with at least one degenerate direction
   ClassCounts class_counts{};
+  MovingLabelScore moving_labels;  // against the stream's truth (empty without one)
 };
 ScanRecord ToRecord(const OdometryResult& result);
 
@@ -92,6 +96,7 @@ struct ModeTrace {
   std::string mode;
   std::vector<ScanRecord> scans;
   std::vector<io::StampedPose> Estimate() const;
+  MovingLabelScore MovingLabels() const;  // summed over the scans
 };
 
 // Feeds every scan of the stream, produced once, to one fresh OdometryPipeline per config in

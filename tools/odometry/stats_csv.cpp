@@ -12,7 +12,7 @@ StatsCsv::StatsCsv(const std::filesystem::path& file) : out_(file), file_(file) 
   out_ << "index,stamp,status,projection_ms,normals_ms,classification_ms,deskew_ms,"
           "downsample_ms,registration_ms,map_update_ms,total_ms,alpha,lambda0,lambda1,lambda2,"
           "degenerate0,degenerate1,degenerate2,iterations,converged,correspondences,"
-          "n_unknown,n_ground,n_roof,n_wall,n_edge,map_points,rss_mib,"
+          "n_unknown,n_ground,n_roof,n_wall,n_edge,n_moving,map_points,rss_mib,"
           "searched_points\n";
 }
 
