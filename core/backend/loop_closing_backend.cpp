@@ -1,6 +1,7 @@
 #include "core/backend/loop_closing_backend.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 
 #include "core/backend/global_map.hpp"
@@ -33,6 +34,27 @@ void KeepStaticPoints(const OdometryResult& result, Keyframe& kf) {
   }
 }
 
+// The front end's covariance is of a left (world-frame) perturbation of the scan's pose; an
+// edge's is of its end pose seen from the previous keyframe: position in that keyframe's frame,
+// rotation in the scan's own. Without the lever arm -[t]x, rotation noise 100 m from the world
+// origin would count as metres of translation noise and leave the odometry edges there
+// nearly free next to any loop.
+Matrix6d InKeyframeFrame(const Matrix6d& world_covariance, const Eigen::Isometry3d& T_world_scan,
+                         const Eigen::Isometry3d& T_world_keyframe) {
+  const Eigen::Matrix3d R_keyframe_world = T_world_keyframe.rotation().transpose();
+  Matrix6d J = Matrix6d::Zero();
+  J.topLeftCorner<3, 3>() = R_keyframe_world;
+  J.topRightCorner<3, 3>() = -R_keyframe_world * Hat(T_world_scan.translation());
+  J.bottomRightCorner<3, 3>() = T_world_scan.rotation().transpose();
+  return J * world_covariance * J.transpose();
+}
+
+std::string Format(const char* fmt, double a, double b) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof(buffer), fmt, a, b);
+  return buffer;
+}
+
 }  // namespace
 
 LoopClosingBackend::LoopClosingBackend(const BackendConfig& config)
@@ -47,7 +69,8 @@ void LoopClosingBackend::AddScan(const OdometryResult& result) {
   if (last_scan_) {
     if (result.scan_index <= *last_scan_) return;  // replayed or out of order
     path_length_ += (result.T_world_sensor.translation() - last_position_).norm();
-    covariance_since_keyframe_ += result.covariance;
+    covariance_since_keyframe_ +=
+        InKeyframeFrame(result.covariance, result.T_world_sensor, last_keyframe_odom_);
   } else {
     first_scan_ = result.scan_index;
   }
@@ -67,6 +90,7 @@ void LoopClosingBackend::AddScan(const OdometryResult& result) {
     inbox_.push_back(std::move(pending));
     keyframe_scans_.push_back(result.scan_index);
     covariance_since_keyframe_.setZero();
+    last_keyframe_odom_ = result.T_world_sensor;
   }
 }
 
@@ -85,22 +109,20 @@ std::vector<LoopEvent> LoopClosingBackend::Process() {
     for (LoopEvent& event : DetectLoops(id, disagrees)) events.push_back(std::move(event));
   }
   if (disagrees) {
+    std::vector<Eigen::Isometry3d> before;
+    before.reserve(keyframes_.size());
+    for (const Keyframe& kf : keyframes_) before.push_back(kf.T_world_sensor);
     Optimize();
+    ReportCorrections(events, before);
   } else if (!pending.empty()) {
     PublishCorrections(keyframes_.size() - pending.size());
   }
   return events;
 }
 
-void LoopClosingBackend::OptimizePendingLoops() {
-  std::lock_guard process_lock(process_mutex_);
-  if (loops_since_solve_) Optimize();
-}
-
 void LoopClosingBackend::Optimize() {
   graph_.Optimize();
   ++optimizations_;
-  loops_since_solve_ = false;
   for (Keyframe& kf : keyframes_) kf.T_world_sensor = graph_.Pose(kf.id);
   PublishCorrections(0);
 }
@@ -182,8 +204,14 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id, b
       covariance.diagonal().tail<3>().array() +=
           config_.loop_rotation_sigma * config_.loop_rotation_sigma;
       graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
-      loops_since_solve_ = true;
-      disagrees = disagrees || graph_.LastEdgeResidual() > config_.loop_optimize_residual;
+      // A loop that agrees with the map stays out of the graph: it would correct nothing, and
+      // the loops' registrations share a bias (a corridor seen from the other direction) that
+      // the next solve would spread over a good trajectory. It still counts as a loop of the map.
+      if (DisagreesWithMap(event)) {
+        disagrees = true;
+      } else {
+        graph_.RemoveLastEdge();
+      }
       loops_.push_back({old.id, query.id, event.T_candidate_query});
       // Where the loop puts the query, next to the old keyframe: the corrected map is locally
       // consistent there even when the query's own corrected pose is still off by the drift.
@@ -198,6 +226,33 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id, b
     events.push_back(std::move(event));
   }
   return events;
+}
+
+bool LoopClosingBackend::DisagreesWithMap(LoopEvent& event) const {
+  const double residual = graph_.LastEdgeResidual();
+  event.map_chi2 = residual * residual;
+  event.map_chi2_bound = config_.loop_optimize_residual * config_.loop_optimize_residual;
+  event.started_optimization = event.map_chi2 > event.map_chi2_bound;
+  event.reason += event.started_optimization
+                      ? Format("; disagrees with the map (chi2 %.2f > %.2f): graph re-solved",
+                               event.map_chi2, event.map_chi2_bound)
+                      : Format("; agrees with the map (chi2 %.2f <= %.2f): no correction",
+                               event.map_chi2, event.map_chi2_bound);
+  return event.started_optimization;
+}
+
+void LoopClosingBackend::ReportCorrections(std::vector<LoopEvent>& events,
+                                           const std::vector<Eigen::Isometry3d>& before) const {
+  for (LoopEvent& event : events) {
+    if (!event.started_optimization || event.query_keyframe >= before.size()) continue;
+    const Eigen::Isometry3d& T_old = before[event.query_keyframe];
+    const Eigen::Isometry3d& T_new = keyframes_[event.query_keyframe].T_world_sensor;
+    event.correction_m = (T_new.translation() - T_old.translation()).norm();
+    event.correction_rad =
+        Eigen::AngleAxisd(T_old.rotation().transpose() * T_new.rotation()).angle();
+    event.reason += Format(", query keyframe moved %.3f m, %.2f deg", event.correction_m,
+                           event.correction_rad * 180.0 / 3.14159265358979323846);
+  }
 }
 
 double LoopClosingBackend::DistanceToStoredKeyframe(const Eigen::Vector3d& position,

@@ -32,10 +32,13 @@ struct BackendConfig {
   // pose (graph node, scan corrections) and drops its cloud and descriptor. So memory grows
   // with the area mapped, not with the time spent in it. 0: keep all.
   double revisit_drop_distance = 2.0;   // metres
-  // An accepted loop whose edge disagrees with the current map by no more than this (whitened
-  // residual norm, with the sigmas below) is added to the graph without a new optimisation:
-  // it would move nothing. So going round mapped ground costs no solves, which grow with the
-  // graph; a loop after real drift still starts one. 0: optimise after every accepted loop.
+  // Only an accepted loop whose edge disagrees with the corrected map by more than this
+  // (whitened residual norm, with the sigmas below) joins the pose graph and starts a solve. A
+  // loop that agrees this well has nothing to correct, and many of them solved together carry
+  // their registrations' common bias into a good trajectory (hand-held corridor VLP-16: 72
+  // agreeing loops solved at the end moved APE +6.5 %). It is still reported, and kept among
+  // the saved map's loops. Going round mapped ground thus costs no solves and no edges, which
+  // grow with the graph. 0: every accepted loop joins the graph and starts a solve.
   double loop_optimize_residual = 1.0;
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres
@@ -60,11 +63,9 @@ class LoopClosingBackend {
   void AddScan(const OdometryResult& result);
   // Integrates queued keyframes, detects and verifies loops, optimises when an accepted loop
   // disagrees with the map (loop_optimize_residual).
-  // Returns every loop candidate examined (accepted or rejected).
+  // Returns every loop candidate examined (accepted or rejected); an accepted loop's reason
+  // says whether it agreed with the map or started a solve, and how far that moved its query.
   std::vector<LoopEvent> Process();
-  // Solves the graph if loops were added since the last solve (loop_optimize_residual lets
-  // agreeing loops wait): an offline run's final trajectory uses every loop it found.
-  void OptimizePendingLoops();
 
   // The odometry pose of a scan corrected by the latest optimisation (the correction of the
   // keyframe at or before it); nullopt outside the scans added so far. The caller keeps its
@@ -92,6 +93,12 @@ class LoopClosingBackend {
   void IntegrateKeyframe(PendingKeyframe pending);
   // `disagrees`: set when an accepted loop disagrees with the map (loop_optimize_residual).
   std::vector<LoopEvent> DetectLoops(std::uint32_t query_id, bool& disagrees);
+  // Judges an accepted loop just added to the graph against the corrected map; true when it
+  // should start a solve.
+  bool DisagreesWithMap(LoopEvent& event) const;
+  // Tells the loops in `events` that started this solve how far it moved their query keyframe.
+  void ReportCorrections(std::vector<LoopEvent>& events,
+                         const std::vector<Eigen::Isometry3d>& before) const;
   // Oldest-excluded nearest keyframe within proximity_radius of the query, if any.
   std::optional<ScanContextCandidate> NearestOldKeyframe(std::uint32_t query_id) const;
   // Publishes the corrections of keyframes `first` onwards.
@@ -115,7 +122,9 @@ class LoopClosingBackend {
   std::vector<Eigen::Isometry3d> corrections_;  // per keyframe: T_corrected * T_odom^-1
   std::uint32_t next_keyframe_id_ = 0;
   double path_length_ = 0.0;
+  // Front-end covariances of the scans since the last keyframe, in its frame (the edge's).
   Matrix6d covariance_since_keyframe_ = Matrix6d::Zero();
+  Eigen::Isometry3d last_keyframe_odom_ = Eigen::Isometry3d::Identity();
 
   // Owned by the Process() thread.
   mutable std::mutex process_mutex_;
@@ -127,7 +136,6 @@ class LoopClosingBackend {
   ScanContextDatabase database_;
   PoseGraph graph_;
   std::size_t optimizations_ = 0;
-  bool loops_since_solve_ = false;
 };
 
 }  // namespace dammloam::backend

@@ -30,6 +30,15 @@ struct LoopEvent {
   Matrix6d covariance = Matrix6d::Identity();
   bool accepted = false;
   std::string reason;                    // "accepted" or why it was rejected
+  // Accepted loops only. Squared whitened residual of the loop's edge at the corrected poses
+  // when it was added, and the bound above which it starts a pose-graph solve
+  // (BackendConfig::loop_optimize_residual squared).
+  double map_chi2 = 0.0;
+  double map_chi2_bound = 0.0;
+  bool started_optimization = false;
+  // How far the solve this loop started moved its query keyframe (0 when it started none).
+  double correction_m = 0.0;
+  double correction_rad = 0.0;
 };
 
 }  // namespace dammloam::backend

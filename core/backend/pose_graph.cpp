@@ -101,6 +101,10 @@ void PoseGraph::AddLoopEdge(std::uint32_t from, std::uint32_t to,
   AddEdge(from, to, T_from_to, covariance, true);
 }
 
+void PoseGraph::RemoveLastEdge() {
+  if (!edges_.empty()) edges_.pop_back();
+}
+
 std::size_t PoseGraph::NumLoopEdges() const {
   std::size_t n = 0;
   for (const Edge& e : edges_) n += e.loop ? 1 : 0;

@@ -24,6 +24,17 @@ std::vector<Eigen::Vector3d> DeskewedScan(const sim::Simulator& simulator, int i
   return points;
 }
 
+// The front end reports covariances of a left (world-frame) perturbation: a body-frame one seen
+// through the pose's adjoint [R, [t]x R; 0, R].
+Matrix6d WorldCovariance(const Matrix6d& body, const Eigen::Isometry3d& T_world_body) {
+  Matrix6d adjoint = Matrix6d::Zero();
+  const Eigen::Matrix3d R = T_world_body.rotation();
+  adjoint.topLeftCorner<3, 3>() = R;
+  adjoint.topRightCorner<3, 3>() = Hat(T_world_body.translation()) * R;
+  adjoint.bottomRightCorner<3, 3>() = R;
+  return adjoint * body * adjoint.transpose();
+}
+
 SimRun MakeSimRun(const sim::Simulator& simulator, int count, int stride,
                   const DriftModel& drift) {
   SimRun run;
@@ -45,7 +56,7 @@ SimRun MakeSimRun(const sim::Simulator& simulator, int count, int stride,
     r.stamp = simulator.ScanStartTime(index);
     r.scan_index = static_cast<std::uint64_t>(index);
     r.T_world_sensor = odom;
-    r.covariance = Matrix6d::Identity() * 1e-4;
+    r.covariance = WorldCovariance(Matrix6d::Identity() * 1e-4, odom);
     r.deskewed_points = DeskewedScan(simulator, index);
     r.labels.assign(r.deskewed_points.size(), PointClass::Unknown);
     run.odometry.push_back(std::move(r));

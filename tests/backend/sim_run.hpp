@@ -19,6 +19,10 @@ struct SimRun {
   std::vector<Eigen::Isometry3d> truth;     // T_world_sensor at each scan start
 };
 
+// A body-frame pose covariance [t; r] as the front end reports it: of a left (world-frame)
+// perturbation of T_world_body.
+Matrix6d WorldCovariance(const Matrix6d& body, const Eigen::Isometry3d& T_world_body);
+
 // A cheap sensor for tests: 32 rings over +-22.5 deg, 512 columns.
 sim::SensorSpec TestSensor();
 

@@ -251,6 +251,52 @@ TEST(LoopClosure, CorridorReturnHalvesApeAndAcceptsOnlyTrueLoops) {
   EXPECT_LT(after * 2.0, before);
 }
 
+// The same walk with odometry that does not drift: loops that agree with the map within their
+// noise stay out of the graph and start no solve. (The one or two whose registration noise
+// passes the bound still start one: this test's loops move exact odometry by ~5 cm either way.)
+double LargestMove(const Outcome& outcome, const SimRun& run) {
+  double moved = 0.0;
+  for (std::size_t i = 0; i < run.odometry.size(); ++i) {
+    moved = std::max(moved, (outcome.corrected[i].translation() -
+                             run.odometry[i].T_world_sensor.translation()).norm());
+  }
+  return moved;
+}
+
+TEST(LoopClosure, LoopsThatAgreeWithTheMapLeaveTheTrajectoryAlone) {
+  const sim::Simulator simulator(sim::SceneKind::CorridorReturn, test::TestSensor());
+  const int stride = 10;
+  const SimRun run = MakeSimRun(simulator, 60, stride, DriftModel{0.0, 0.0});
+  BackendConfig config;
+  config.scan_context.max_range = 30.0;
+  config.scan_context.sensor_height = 1.2;
+  config.database.exclude_recent = 10;
+  LoopClosingBackend backend(config);
+  const Outcome outcome = RunBackendThreaded(backend, run);
+  std::size_t accepted = 0, agreeing = 0;
+  for (const LoopEvent& e : outcome.events) {
+    if (!e.accepted) continue;
+    ++accepted;
+    EXPECT_DOUBLE_EQ(e.map_chi2_bound, 1.0);
+    EXPECT_EQ(e.started_optimization, e.map_chi2 > e.map_chi2_bound) << e.reason;
+    if (e.started_optimization) continue;
+    ++agreeing;
+    EXPECT_NE(e.reason.find("agrees with the map"), std::string::npos) << e.reason;
+  }
+  // Solving after every loop instead: every loop's noise is carried into the trajectory.
+  config.loop_optimize_residual = 0.0;
+  LoopClosingBackend eager(config);
+  const Outcome eager_outcome = RunBackendThreaded(eager, run);
+  const double moved = LargestMove(outcome, run), eager_moved = LargestMove(eager_outcome, run);
+  std::printf("exact odometry: %zu loops accepted, %zu agree with the map; %zu solves move the "
+              "trajectory by up to %.4f m; solving after every loop (%zu solves) by %.4f m\n",
+              accepted, agreeing, backend.NumOptimizations(), moved, eager.NumOptimizations(),
+              eager_moved);
+  EXPECT_GE(accepted, 5u);
+  EXPECT_GT(agreeing * 4, accepted * 3);  // most loops agree and stay out of the graph
+  EXPECT_LT(backend.NumOptimizations() * 5, accepted);
+}
+
 TEST(LoopClosure, UnknownScanHasNoCorrectedPose) {
   LoopClosingBackend backend;
   const Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -24,6 +24,11 @@ TEST(LoopEventJson, CarriesIdsScoresAndDecision) {
                         Eigen::AngleAxisd(0.25, Eigen::Vector3d::UnitZ());
   e.accepted = false;
   e.reason = "residual 0.14 m > 0.12 m";
+  e.map_chi2 = 2.5;
+  e.map_chi2_bound = 1.0;
+  e.started_optimization = true;
+  e.correction_m = 0.31;
+  e.correction_rad = 0.02;
 
   const std::string line = LoopEventJsonLine(e);
   EXPECT_EQ(line.find('\n'), std::string::npos);
@@ -40,6 +45,11 @@ TEST(LoopEventJson, CarriesIdsScoresAndDecision) {
   EXPECT_DOUBLE_EQ(j["rmse"].get<double>(), 0.04);
   EXPECT_FALSE(j["accepted"].get<bool>());
   EXPECT_EQ(j["reason"], "residual 0.14 m > 0.12 m");
+  EXPECT_DOUBLE_EQ(j["map_chi2"].get<double>(), 2.5);
+  EXPECT_DOUBLE_EQ(j["map_chi2_bound"].get<double>(), 1.0);
+  EXPECT_TRUE(j["started_optimization"].get<bool>());
+  EXPECT_DOUBLE_EQ(j["correction_m"].get<double>(), 0.31);
+  EXPECT_DOUBLE_EQ(j["correction_rad"].get<double>(), 0.02);
   const auto T = j["T_candidate_query"].get<std::vector<double>>();
   ASSERT_EQ(T.size(), 7u);
   EXPECT_DOUBLE_EQ(T[0], 1.0);

@@ -135,7 +135,6 @@ int RunMapping(const RunnerOptions& o) {
   std::vector<io::StampedPose> corrected;
   if (backend) {
     events.Write(backend->Process());
-    backend->OptimizePendingLoops();
     corrected = CorrectedTrajectory(*backend, odometry, scan_indices);
   }
   io::WriteTum(o.out, o.loop_closure ? corrected : odometry);
@@ -153,12 +152,17 @@ int RunMapping(const RunnerOptions& o) {
   spdlog::info("{} scans, {} not registered, median {:.1f} ms per scan -> {}", n, not_registered,
                Median(total_ms), o.out.string());
   if (o.loop_closure) {
-    spdlog::info("loop closure: {} keyframes, {} loop candidates, {} accepted",
-                 backend->NumKeyframes(), events.accepted + events.rejected, events.accepted);
+    spdlog::info("loop closure: {} keyframes, {} loop candidates, {} accepted, {} pose-graph "
+                 "solves", backend->NumKeyframes(), events.accepted + events.rejected,
+                 events.accepted, backend->NumOptimizations());
   }
   if (const auto gt = reader.ReadGroundTruth()) {
-    LogMetrics("odometry", *gt, odometry);
-    if (o.loop_closure) LogMetrics("corrected", *gt, corrected);
+    const auto before = LogMetrics("odometry", *gt, odometry);
+    const auto after = o.loop_closure ? LogMetrics("corrected", *gt, corrected) : std::nullopt;
+    if (before && after && *before > 0.0) {
+      spdlog::info("loop closure changed APE RMSE by {:+.1f} % ({:.4f} -> {:.4f} m)",
+                   100.0 * (*after / *before - 1.0), *before, *after);
+    }
   }
   return 0;
 }

@@ -7,14 +7,16 @@
 
 namespace dammloam::tools {
 
-void LogMetrics(const std::string& label, const std::vector<io::StampedPose>& gt,
-                const std::vector<io::StampedPose>& estimate) {
+std::optional<double> LogMetrics(const std::string& label, const std::vector<io::StampedPose>& gt,
+                                 const std::vector<io::StampedPose>& estimate) {
   try {
     const eval::TrajectoryMetrics m = eval::EvaluateTrajectories(gt, estimate);
-    spdlog::info("{} vs gt.tum: APE RMSE {:.3f} m, RPE RMSE {:.3f} m, drift {:.2f} %", label,
+    spdlog::info("{} vs gt.tum: APE RMSE {:.4f} m, RPE RMSE {:.4f} m, drift {:.2f} %", label,
                  m.ape.rmse, m.rpe.rmse, m.drift_percent);
+    return m.ape.rmse;
   } catch (const std::invalid_argument& e) {
     spdlog::warn("{} vs gt.tum: not evaluated: {}", label, e.what());
+    return std::nullopt;
   }
 }
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -29,9 +30,10 @@ int RunMapping(const RunnerOptions& options);
 // --out holds the poses of the scans that were localized, in the map frame.
 int RunLocalization(const RunnerOptions& options);
 
-// "<label> vs gt.tum: APE RMSE ..., RPE RMSE ..." through spdlog; nothing if fewer than 2 pairs.
-void LogMetrics(const std::string& label, const std::vector<io::StampedPose>& gt,
-                const std::vector<io::StampedPose>& estimate);
+// "<label> vs gt.tum: APE RMSE ..., RPE RMSE ..." through spdlog; returns the APE RMSE, or
+// nothing (after a warning) if the trajectories cannot be paired.
+std::optional<double> LogMetrics(const std::string& label, const std::vector<io::StampedPose>& gt,
+                                 const std::vector<io::StampedPose>& estimate);
 
 double Median(std::vector<double> values);
 
