@@ -1,11 +1,11 @@
 #include "core/backend/loop_closing_backend.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <limits>
 
 #include "core/backend/global_map.hpp"
 #include "core/backend/point_to_plane_icp.hpp"
+#include "core/backend/reason_text.hpp"
 
 namespace dammloam::backend {
 
@@ -47,12 +47,6 @@ Matrix6d InKeyframeFrame(const Matrix6d& world_covariance, const Eigen::Isometry
   J.topRightCorner<3, 3>() = -R_keyframe_world * Hat(T_world_scan.translation());
   J.bottomRightCorner<3, 3>() = T_world_scan.rotation().transpose();
   return J * world_covariance * J.transpose();
-}
-
-std::string Format(const char* fmt, double a, double b) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof(buffer), fmt, a, b);
-  return buffer;
 }
 
 }  // namespace
@@ -233,11 +227,12 @@ bool LoopClosingBackend::DisagreesWithMap(LoopEvent& event) const {
   event.map_chi2 = residual * residual;
   event.map_chi2_bound = config_.loop_optimize_residual * config_.loop_optimize_residual;
   event.started_optimization = event.map_chi2 > event.map_chi2_bound;
-  event.reason += event.started_optimization
-                      ? Format("; disagrees with the map (chi2 %.2f > %.2f): graph re-solved",
-                               event.map_chi2, event.map_chi2_bound)
-                      : Format("; agrees with the map (chi2 %.2f <= %.2f): no correction",
-                               event.map_chi2, event.map_chi2_bound);
+  event.reason +=
+      event.started_optimization
+          ? ReasonText("; disagrees with the map (chi2 %.2f > %.2f): graph re-solved",
+                       event.map_chi2, event.map_chi2_bound)
+          : ReasonText("; agrees with the map (chi2 %.2f <= %.2f): no correction", event.map_chi2,
+                       event.map_chi2_bound);
   return event.started_optimization;
 }
 
@@ -250,7 +245,7 @@ void LoopClosingBackend::ReportCorrections(std::vector<LoopEvent>& events,
     event.correction_m = (T_new.translation() - T_old.translation()).norm();
     event.correction_rad =
         Eigen::AngleAxisd(T_old.rotation().transpose() * T_new.rotation()).angle();
-    event.reason += Format(", query keyframe moved %.3f m, %.2f deg", event.correction_m,
+    event.reason += ReasonText(", query keyframe moved %.3f m, %.2f deg", event.correction_m,
                            event.correction_rad * 180.0 / 3.14159265358979323846);
   }
 }

@@ -1,7 +1,8 @@
 #include "core/backend/loop_verifier.hpp"
 
 #include <algorithm>
-#include <cstdio>
+
+#include "core/backend/reason_text.hpp"
 
 namespace dammloam::backend {
 
@@ -26,12 +27,6 @@ Matrix6d EdgeCovariance(const IcpResult& icp, const Eigen::Matrix3d& observed,
   A.topRightCorner<3, 3>() = -Hat(icp.T_target_source.translation());
   A.bottomRightCorner<3, 3>() = icp.T_target_source.rotation().transpose();
   return A * covariance_dx * A.transpose();
-}
-
-std::string Format(const char* fmt, double a, double b) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof(buffer), fmt, a, b);
-  return buffer;
 }
 
 }  // namespace
@@ -103,25 +98,25 @@ void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
 
   event.accepted = false;
   if (icp.inlier_ratio < min_inlier_ratio) {
-    event.reason = Format("inlier ratio %.2f below %.2f", icp.inlier_ratio, min_inlier_ratio);
+    event.reason = ReasonText("inlier ratio %.2f below %.2f", icp.inlier_ratio, min_inlier_ratio);
   } else if (icp.rmse > config_.max_rmse) {
-    event.reason = Format("residual %.3f m above %.3f m", icp.rmse, config_.max_rmse);
+    event.reason = ReasonText("residual %.3f m above %.3f m", icp.rmse, config_.max_rmse);
   } else if (event.observed_translation_directions < config_.min_observed_directions) {
-    event.reason = Format("degenerate geometry: %.0f of 3 translation directions observed, "
+    event.reason = ReasonText("degenerate geometry: %.0f of 3 translation directions observed, "
                           "%.0f needed",
                           event.observed_translation_directions,
                           config_.min_observed_directions);
   } else if (event.odometry_disagreement > drift_budget) {
-    event.reason = Format("disagrees with odometry by %.2f m (drift budget %.2f m)",
+    event.reason = ReasonText("disagrees with odometry by %.2f m (drift budget %.2f m)",
                           event.odometry_disagreement, drift_budget);
   } else if (rotation_disagreement > rotation_budget) {
-    event.reason = Format("disagrees with odometry by %.2f rad (drift budget %.2f rad)",
+    event.reason = ReasonText("disagrees with odometry by %.2f rad (drift budget %.2f rad)",
                           rotation_disagreement, rotation_budget);
   } else {
     event.accepted = true;
     event.reason = event.observed_translation_directions == 3
                        ? "accepted"
-                       : Format("accepted: constrains %.0f of %.0f translation directions",
+                       : ReasonText("accepted: constrains %.0f of %.0f translation directions",
                                 event.observed_translation_directions, 3);
   }
 }

@@ -10,8 +10,9 @@
 namespace dammloam::backend {
 namespace {
 
-// Scans 0.11 m apart (a keyframe every 10: 1.1 m, clear of the 1 m threshold) along the body's x axis, starting at `start`, each with the same body-frame
-// covariance reported as the front end does (world-frame left perturbation).
+// Scans 0.11 m apart along the body's x axis (a keyframe every 10: 1.1 m, clear of the 1 m
+// threshold), starting at `start`, each with the same body-frame covariance reported as the
+// front end does (world-frame left perturbation).
 std::vector<Matrix6d> EdgeCovariances(const Eigen::Isometry3d& start, const Matrix6d& body) {
   BackendConfig config;
   config.max_verifications_per_keyframe = 0;  // edges only

@@ -215,6 +215,15 @@ TEST(LoopClosure, RepetitiveCorridorGivesNoAcceptedFalseLoop) {
   EXPECT_GT(look_alikes, 0u) << "the scene no longer tests aliasing";
 }
 
+// Descriptors sized for the corridor (indoor range, hand height); loops only after 10 keyframes.
+BackendConfig CorridorReturnConfig() {
+  BackendConfig config;
+  config.scan_context.max_range = 30.0;
+  config.scan_context.sensor_height = 1.2;
+  config.database.exclude_recent = 10;
+  return config;
+}
+
 // A corridor driven to a U-turn and back along the other side: loops are seen facing the
 // other way (yaw ~180 deg), and the corridor leaves the along-axis translation weakly observed.
 // The injected drift (2 % scale, 0.002 rad/m yaw) is what corridor odometry suffers.
@@ -222,10 +231,7 @@ TEST(LoopClosure, CorridorReturnHalvesApeAndAcceptsOnlyTrueLoops) {
   const sim::Simulator simulator(sim::SceneKind::CorridorReturn, test::TestSensor());
   const int stride = 10;
   const SimRun run = MakeSimRun(simulator, 60, stride, DriftModel{0.002, 0.02});
-  BackendConfig config;
-  config.scan_context.max_range = 30.0;
-  config.scan_context.sensor_height = 1.2;
-  config.database.exclude_recent = 10;
+  BackendConfig config = CorridorReturnConfig();
   LoopClosingBackend backend(config);
   const Outcome outcome = RunBackendThreaded(backend, run);
   std::vector<Eigen::Isometry3d> odometry;
@@ -267,10 +273,7 @@ TEST(LoopClosure, LoopsThatAgreeWithTheMapLeaveTheTrajectoryAlone) {
   const sim::Simulator simulator(sim::SceneKind::CorridorReturn, test::TestSensor());
   const int stride = 10;
   const SimRun run = MakeSimRun(simulator, 60, stride, DriftModel{0.0, 0.0});
-  BackendConfig config;
-  config.scan_context.max_range = 30.0;
-  config.scan_context.sensor_height = 1.2;
-  config.database.exclude_recent = 10;
+  BackendConfig config = CorridorReturnConfig();
   LoopClosingBackend backend(config);
   const Outcome outcome = RunBackendThreaded(backend, run);
   std::size_t accepted = 0, agreeing = 0;
