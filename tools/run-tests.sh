@@ -11,7 +11,8 @@
 # Environment: JOBS (tests at once, default nproc), BUILD_JOBS (compile jobs, default JOBS + 1:
 # one more than the cores keeps them busy through links, PCH loads and the test discovery steps),
 # DAMMLOAM_SKIP_SANITIZERS=1 (release only),
-# DAMMLOAM_SKIP_FUZZ=1 (no fuzzing), FUZZ_SECONDS (default 10; tools/run-tests-long.sh fuzzes 600 s each).
+# DAMMLOAM_SKIP_FUZZ=1 (no fuzzing), FUZZ_SECONDS (default 10; tools/run-tests-long.sh fuzzes 600 s each),
+# DAMMLOAM_UNITY_BUILD=OFF (file by file; default ON, see tools/sanitizer-builds.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}

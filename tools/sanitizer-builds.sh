@@ -13,13 +13,19 @@ SANITIZER_CFLAGS="-O1 -g1 -DNDEBUG"
 # Every build uses Ninja: unlike Make it starts a target's objects before the libraries it links
 # are done, so both cores stay busy behind the long Eigen translation units.
 # A build directory configured earlier with another generator gets a fresh cache.
+# And every build of the test commands is a unity build (CMake joins up to 8 files of a target
+# into one translation unit): the Eigen, standard-library and spdlog headers are parsed, and
+# their inline functions compiled, once per batch instead of once per file. On a clean clone it
+# took the release objects from 1829 to 1291 task-seconds and the ASan+UBSan ones from 2025 to
+# 1402. DAMMLOAM_UNITY_BUILD=OFF builds file by file (what an IDE's incremental build does),
+# which also shows a file that compiles only thanks to its batch's includes.
 configure_ninja() {  # configure_ninja BUILD_DIR CMAKE_ARGS...
   local dir=$1
   shift
   if [ -f "$dir/CMakeCache.txt" ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then
     rm -rf "$dir/CMakeCache.txt" "$dir/CMakeFiles"
   fi
-  cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+  cmake -S . -B "$dir" -G Ninja "-DCMAKE_UNITY_BUILD=${DAMMLOAM_UNITY_BUILD:-ON}" "$@" >/dev/null
 }
 
 # Twelve long drives run in the test command's release stage only, and under ASan+UBSan in

@@ -24,7 +24,7 @@ constexpr int kFirstScan = 25;
 
 using test::CommandResult;
 
-std::string Binary() { return std::string(DAMMLOAM_BIN_DIR) + "/dammloam-odometry"; }
+std::string Binary() { return DAMMLOAM_BIN_DIR "/dammloam-odometry"; }
 
 // Output is stdout and stderr together.
 CommandResult RunOdometry(const std::string& arguments) {

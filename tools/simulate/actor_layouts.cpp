@@ -1,4 +1,5 @@
 #include "tools/simulate/actor_layouts.hpp"
+#include "tools/simulate/angles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,6 @@ namespace dammloam::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr int kTries = 300;  // per actor (or group, door) before it is left out
 constexpr double kSceneMargin = 0.02;  // metres between an actor and a wall, tree or pillar
 
@@ -40,7 +40,6 @@ class Draw {
   std::mt19937_64 rng_;
 };
 
-Eigen::Vector2d LeftOf(double heading) { return {-std::sin(heading), std::cos(heading)}; }
 
 // Places along a centreline as (s, lateral): s metres along it, lateral metres to its left.
 // A corridor's frame is its axis; open ground's is the carrier's own path (its footway).

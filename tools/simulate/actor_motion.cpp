@@ -1,4 +1,5 @@
 #include "tools/simulate/actor_motion.hpp"
+#include "tools/simulate/angles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@ namespace dammloam::sim {
 
 namespace {
 
-Eigen::Vector2d LeftOf(double heading) { return {-std::sin(heading), std::cos(heading)}; }
 
 // Coinciding points would make a leg without a direction.
 std::vector<Eigen::Vector2d> WithoutRepeats(const std::vector<Eigen::Vector2d>& points) {

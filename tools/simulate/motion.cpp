@@ -1,4 +1,5 @@
 #include "tools/simulate/motion.hpp"
+#include "tools/simulate/angles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +10,6 @@ namespace dammloam::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDegToRad = kPi / 180.0;
 constexpr double kLimitDs = 0.01;      // metres of path per speed-limit sample
 constexpr double kGaitSpeed = 0.6;     // m/s at which the gait motions reach full strength
 constexpr double kGaitLag = 0.3;       // s, low-pass of the gait strength (keeps it C1)

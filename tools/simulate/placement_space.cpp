@@ -7,7 +7,7 @@ namespace dammloam::sim {
 
 namespace {
 
-constexpr double kCell = 4.0;  // metres, grid of static outlines
+constexpr double kOutlineCell = 4.0;  // metres, grid of static outlines
 // Between samples the gap to the sensor is refined where it is this small (metres): sensor and
 // actor together move less than this in a sample step.
 constexpr double kRefineBelow = 2.0;
@@ -19,7 +19,7 @@ double PointToBox(const Eigen::Vector3d& p, const Box& box) {
 }
 
 int CellIndex(double value, double origin, int count) {
-  return std::clamp(static_cast<int>(std::floor((value - origin) / kCell)), 0, count - 1);
+  return std::clamp(static_cast<int>(std::floor((value - origin) / kOutlineCell)), 0, count - 1);
 }
 
 }  // namespace
@@ -96,8 +96,8 @@ void PlacementSpace::AddOutlines(const Scene& scene) {
     hi = hi.cwiseMax(o.center + extent(o));
   }
   grid_min_ = lo;
-  nx_ = static_cast<int>((hi.x() - lo.x()) / kCell) + 1;
-  ny_ = static_cast<int>((hi.y() - lo.y()) / kCell) + 1;
+  nx_ = static_cast<int>((hi.x() - lo.x()) / kOutlineCell) + 1;
+  ny_ = static_cast<int>((hi.y() - lo.y()) / kOutlineCell) + 1;
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   for (std::size_t i = 0; i < outlines_.size(); ++i) {
     const Eigen::Vector2d a = outlines_[i].center - extent(outlines_[i]);

@@ -1,4 +1,5 @@
 #include "tools/simulate/scenes.hpp"
+#include "tools/simulate/angles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@ namespace dammloam::sim {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // Reflectivities: distinct per material so intensity images carry some texture.
 constexpr float kFloor = 0.3f, kCeiling = 0.6f, kWall = 0.5f, kDoor = 0.2f, kPillar = 0.7f;

@@ -8,7 +8,7 @@ namespace dammloam::sim {
 
 namespace {
 
-constexpr double kCell = 1.0;  // metres
+constexpr double kSweepCell = 1.0;  // metres
 
 Box Grown(Box box, double margin) {
   box.half_size.array() += margin;
@@ -20,7 +20,7 @@ Eigen::Vector2d HalfExtent(const Box& box) {
 }
 
 int Cell(double value, double origin, int count) {
-  return std::clamp(static_cast<int>(std::floor((value - origin) / kCell)), 0, count - 1);
+  return std::clamp(static_cast<int>(std::floor((value - origin) / kSweepCell)), 0, count - 1);
 }
 
 }  // namespace
@@ -48,8 +48,8 @@ SweptVolume::SweptVolume(const ActorSet& actors, double t_from, double t_to, dou
     hi = hi.cwiseMax(b.center.head<2>() + HalfExtent(b));
   }
   grid_min_ = lo;
-  nx_ = static_cast<int>((hi.x() - lo.x()) / kCell) + 1;
-  ny_ = static_cast<int>((hi.y() - lo.y()) / kCell) + 1;
+  nx_ = static_cast<int>((hi.x() - lo.x()) / kSweepCell) + 1;
+  ny_ = static_cast<int>((hi.y() - lo.y()) / kSweepCell) + 1;
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   for (std::size_t i = 0; i < swept_.size(); ++i) {
     const Eigen::Vector2d a = swept_[i].center.head<2>() - HalfExtent(swept_[i]);
@@ -70,7 +70,7 @@ bool SweptVolume::Inside(const Box& box, const Eigen::Vector3d& p) {
 const std::vector<std::size_t>& SweptVolume::Near(const Eigen::Vector3d& p) const {
   static const std::vector<std::size_t> kNone;
   if (cells_.empty()) return kNone;
-  const double x = (p.x() - grid_min_.x()) / kCell, y = (p.y() - grid_min_.y()) / kCell;
+  const double x = (p.x() - grid_min_.x()) / kSweepCell, y = (p.y() - grid_min_.y()) / kSweepCell;
   if (x < 0.0 || y < 0.0 || x >= nx_ || y >= ny_) return kNone;
   return cells_[static_cast<std::size_t>(Cell(p.y(), grid_min_.y(), ny_)) * nx_ +
                 static_cast<std::size_t>(Cell(p.x(), grid_min_.x(), nx_))];

@@ -1,4 +1,5 @@
 #include "tools/simulate/trajectory.hpp"
+#include "tools/simulate/angles.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -9,7 +10,6 @@ namespace {
 double Wave(double amplitude, double period, double t, double phase = 0.0) {
   return amplitude * std::sin(2.0 * std::numbers::pi * t / period + phase);
 }
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 }  // namespace
 
 CarrierParams CarrierParamsOf(const MotionSpec& spec) {
