@@ -30,6 +30,9 @@ class DepthView {
   // lies more than `margin` beyond p_world. Empty cells (sky, absorbed) say nothing, and the
   // block's nearest return decides, so a depth edge never counts as seen through.
   bool SeesThrough(const Eigen::Vector3d& p_world, double margin) const;
+  // The same for a point already in this view's sensor frame (q = pose().inverse() * p_world),
+  // for callers that moved a whole scan into the view's frame with one composed transform.
+  bool SeesThroughInViewFrame(const Eigen::Vector3d& q, double margin) const;
 
   // Whether the return in the direction of p_world lies more than `margin` short of it: the
   // place was hidden behind something when this view was taken.
@@ -45,6 +48,7 @@ class DepthView {
   Eigen::Isometry3d T_sensor_world_;
   int rows_ = 0, cols_ = 0;
   double el_min_ = 0.0, el_step_ = 1.0, az_step_ = 1.0;
+  double inv_el_step_ = 1.0, inv_az_step_ = 1.0;
   std::vector<float> nearest_;  // rows_ * cols_, 0 = no return
 };
 

@@ -143,14 +143,16 @@ std::vector<std::uint8_t> MovingPoints::Evidence(const std::vector<Eigen::Vector
                                                  const std::vector<const StampedView*>& views) const {
   std::vector<std::uint8_t> seen_through(points_sensor.size(), 0);
   const double max_sq = config_.max_range * config_.max_range;
+  // Each point goes straight from this scan's frame into each view's: one transform per view.
+  std::vector<Eigen::Isometry3d> T_view_sensor;
+  for (const StampedView* view : views) T_view_sensor.push_back(view->view.pose().inverse() * T_world_sensor);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_sensor.size(), 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
       if (i < labels.size() && !CanMove(labels[i])) continue;
       if (points_sensor[i].squaredNorm() > max_sq) continue;
-      const Eigen::Vector3d p = T_world_sensor * points_sensor[i];
-      for (const StampedView* view : views) {
-        const double distance = (p - view->view.pose().translation()).norm();
-        if (view->view.SeesThrough(p, Margin(distance))) {
+      for (std::size_t v = 0; v < views.size(); ++v) {
+        const Eigen::Vector3d q = T_view_sensor[v] * points_sensor[i];
+        if (views[v]->view.SeesThroughInViewFrame(q, Margin(q.norm()))) {
           seen_through[i] = kSeenThrough;
           break;
         }
@@ -178,15 +180,15 @@ void MovingPoints::NextToVacated(const std::vector<Eigen::Vector3d>& points_sens
     }
   }
   if (vacated.empty()) return;
-  const auto near_vacated = [&](const Eigen::Vector3d& p) {
-    const CellKey k = CellOf(p, cell);
+  // Vacated cells and their 26 neighbours, so that each point asks once instead of 27 times
+  // (a few dozen vacated cells against tens of thousands of points).
+  tsl::robin_set<CellKey, CellKeyHash> near;
+  for (const CellKey& k : vacated) {
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          if (vacated.count(CellKey{k.x + dx, k.y + dy, k.z + dz})) return true;
-        }
-    return false;
-  };
+        for (int dz = -1; dz <= 1; ++dz) near.insert(CellKey{k.x + dx, k.y + dy, k.z + dz});
+  }
+  const auto near_vacated = [&](const Eigen::Vector3d& p) { return near.count(CellOf(p, cell)) != 0; };
   const double max_sq = config_.max_range * config_.max_range;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_sensor.size(), 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
