@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-
 namespace dammloam {
 
 namespace {
@@ -64,7 +63,7 @@ bool DepthView::CellOf(const Eigen::Vector3d& q, int& row, int& col) const {
   if (row < 0 || row >= rows_) return false;
   // The azimuth plus pi lies in [0, 2 pi]: only its upper end wraps.
   col = static_cast<int>((std::atan2(q.y(), q.x()) + std::numbers::pi) * inv_az_step_);
-  if (col >= cols_) col -= cols_;
+  col = WrappedColumn(col);
   return true;
 }
 
@@ -80,7 +79,7 @@ bool DepthView::SeesThroughInViewFrame(const Eigen::Vector3d& q, double margin) 
     const int r = row + dr;
     if (r < 0 || r >= rows_) return false;
     for (int dc = -1; dc <= 1; ++dc) {
-      const int c = col + dc < 0 ? col + dc + cols_ : (col + dc >= cols_ ? col + dc - cols_ : col + dc);
+      const int c = WrappedColumn(col + dc);
       const float nearest = nearest_[static_cast<std::size_t>(r) * cols_ + c];
       if (nearest == 0.0f || nearest <= needed) return false;
     }

@@ -43,6 +43,8 @@ class DepthView {
  private:
   // Cell of a sensor-frame direction; false when its elevation lies outside the sensor's view.
   bool CellOf(const Eigen::Vector3d& q, int& row, int& col) const;
+  // A column index at most one turn outside [0, cols_) brought back into it (no integer division).
+  int WrappedColumn(int c) const { return c < 0 ? c + cols_ : (c >= cols_ ? c - cols_ : c); }
 
   Eigen::Isometry3d T_world_sensor_;
   Eigen::Isometry3d T_sensor_world_;
