@@ -128,6 +128,15 @@ void ReadMoving(Section s, OdometryConfig& c) {
   s.RejectUnknownKeys();
 }
 
+void ReadHealth(Section s, TrackingHealthConfig& h) {
+  s.Get("reference_scans", h.reference_scans);
+  s.Get("degraded_pair_share", h.degraded_pair_share);
+  s.Get("lost_pair_share", h.lost_pair_share);
+  s.Get("max_innovation_gates", h.max_innovation_gates);
+  s.Get("restart_after_lost_scans", h.restart_after_lost_scans);
+  s.RejectUnknownKeys();
+}
+
 void Require(bool ok, const char* field, const std::string& what) {
   if (!ok) throw ConfigError(std::string(field) + ": " + what);
 }
@@ -143,6 +152,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadRegistration(s.Child("registration"), config.registration);
   ReadMotionPrior(s.Child("motion_prior"), config);
   ReadMoving(s.Child("moving"), config);
+  ReadHealth(s.Child("health"), config.health);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
   s.Get("interpolate_start_pose", config.interpolate_start_pose);
@@ -245,6 +255,14 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(r.weak_eigenvalue_ratio >= 0.0 && r.weak_eigenvalue_ratio < 1.0,
           "registration.weak_eigenvalue_ratio", "must be in [0, 1)");
   Require(r.residual_sigma > 0.0, "registration.residual_sigma", "must be > 0");
+  const TrackingHealthConfig& h = c.health;
+  Require(h.reference_scans >= 3, "health.reference_scans", "must be >= 3");
+  Require(h.lost_pair_share >= 0.0 && h.lost_pair_share <= h.degraded_pair_share &&
+              h.degraded_pair_share <= 1.0,
+          "health.lost_pair_share", "must satisfy 0 <= lost_pair_share <= degraded_pair_share <= 1");
+  Require(h.max_innovation_gates > 0.0, "health.max_innovation_gates", "must be > 0");
+  Require(h.restart_after_lost_scans >= 0, "health.restart_after_lost_scans",
+          "must be >= 0 (0: never start the map over)");
   const auto& mp = c.motion_prior;
   Require(mp.acceleration > 0.0, "motion_prior.acceleration", "must be > 0");
   Require(mp.speed_change > 0.0, "motion_prior.speed_change", "must be > 0");

@@ -103,7 +103,8 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
                  config.registration.min_motion_threshold, config.map.max_distance),
       moving_(config.moving, sensor),
       persistence_(PersistenceConfig(AutoVoxelSize(config.map, 0.0), config.moving)),
-      translation_filter_(config.motion_prior) {}
+      translation_filter_(config.motion_prior),
+      health_(config.health) {}
 
 // A rotation error displaces a point in proportion to its range. KISS-ICP measures it at the
 // sensor's maximum range; where the scene is much smaller (a corridor) that inflates the
@@ -259,7 +260,15 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   Stopwatch watch;
   OdometryResult result = NewResult(scan);
   result.status = Admit(scan.scan);
-  if (!Registered(result.status)) return result;
+  if (!Registered(result.status)) {
+    // No data is no measurement; a repeated stamp changes nothing.
+    if (result.status != OdometryStatus::kNonIncreasingStamp) result.tracking = Tracking::kLost;
+    result.pose_covariance = last_pose_covariance_;
+    return result;
+  }
+  result.point_times = CheckPointTimes(scan.scan, sensor_.scan_period);
+  // Times that are not firing times would bend the cloud: dropped, never guessed.
+  if (result.point_times != PointTimeCheck::kUsable) scan.scan.times.clear();
   const double dt = TimeStep(scan.scan.t_start, result.status);
   Frame frame = Deskew(std::move(scan));
   result.timings.deskew_ms = watch.LapMs();
@@ -271,14 +280,34 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     Initialise(frame);
     result.status = OdometryStatus::kFirstScan;
   } else {
-    const RegistrationResult reg = RegisterFrame(frame, dt);
+    // The prediction advances the filter; a scan that is not registered must leave it as it was.
+    const TranslationFilter filter_before = translation_filter_;
+    RegistrationResult reg = RegisterFrame(frame, dt);
+    result.tracking = JudgeFit(frame, reg, result);
+    if (result.status == OdometryStatus::kTimeGap) reg = AcrossTheGap(frame, dt, reg, result);
+    if (result.tracking == Tracking::kLost && reg.enough_correspondences) {
+      reg = Reacquire(frame, reg, result);
+    }
     result.timings.registration_ms = watch.LapMs();
-    if (reg.enough_correspondences) CorrectInScanMotion(frame, reg);
-    result.timings.deskew_ms += watch.LapMs();
     Describe(reg, result);
-    if (!reg.enough_correspondences) return Unregistered(std::move(result), frame);
-    T_new = reg.T_world_sensor;
-    UpdateMotionModel(frame, reg, dt, result.status);
+    if (result.tracking == Tracking::kLost) {
+      const OdometryStatus why = reg.enough_correspondences ? OdometryStatus::kLost
+                                                            : OdometryStatus::kTooFewCorrespondences;
+      translation_filter_ = filter_before;
+      if (!StartOverAfterLoss()) return Unregistered(std::move(result), frame, why);
+      Restart(frame);
+      result.status = OdometryStatus::kRestarted;
+      T_new = frame.T_pred;
+    } else {
+      consecutive_lost_ = 0;
+      CorrectInScanMotion(frame, reg);
+      result.timings.deskew_ms += watch.LapMs();
+      result.pose_covariance = PoseCovariance(reg);
+      last_pose_covariance_ = result.pose_covariance;
+      health_.Record(result.paired_share);
+      T_new = reg.T_world_sensor;
+      UpdateMotionModel(frame, reg, dt, result.status);
+    }
   }
   InsertIntoMap(frame.scan, frame.moving, T_new, defer_map);
   if (config_.moving.enabled) {
@@ -317,6 +346,7 @@ double Odometry::TimeStep(double t_start, OdometryStatus& status) {
   if (!initialised_) return sensor_.scan_period;
   const double dt = t_start - last_stamp_;
   if (dt > config_.max_time_gap) {
+    velocity_before_gap_ = velocity_;
     velocity_.setZero();
     translation_filter_.Reset();
     motion_model_holds_ = false;
@@ -377,14 +407,15 @@ RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   return reg;
 }
 
-RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior) {
+RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior,
+                                            double gate_widening) {
   RegistrationConfig registration = config_.registration;
   // Degeneracy hysteresis: once a scan was degenerate, the next one is until the ratio
   // clears the (higher) release ratio.
   if (last_scan_degenerate_) {
     registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
   }
-  const double sigma = threshold_.Sigma();
+  const double sigma = gate_widening * threshold_.Sigma();
   map_shapes_.Forget(map_.TakeChanges());
   return RegisterScan(frame.source.points, frame.source.labels, map_, frame.T_guess,
                       kGateSigmas * sigma, sigma / kGateSigmas, registration, prior,
@@ -449,10 +480,121 @@ double Odometry::Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometr
   return (T_pred.inverse() * T).translation().norm();
 }
 
+// How the registration fitted, against the recent ones (TrackingHealth).
+Tracking Odometry::JudgeFit(const Frame& frame, const RegistrationResult& reg,
+                            OdometryResult& result) const {
+  if (!reg.enough_correspondences) return Tracking::kLost;
+  const std::size_t source = frame.source.points.size();
+  result.paired_share = source == 0 ? 0.0 : double(reg.num_planar + reg.num_point) / double(source);
+  result.innovation = Deviation(frame.T_pred, reg.T_world_sensor);
+  return health_.Judge({reg.converged, result.paired_share, result.innovation,
+                        kGateSigmas * threshold_.Sigma()});
+}
+
+// A registration that lost its fit may have started outside the right basin (a fast turn, a
+// jolt): registered again from the prediction with gates 4x and 2x the usual, narrowing to it,
+// without the motion prior that held it near the wrong guess. Taken only if it fits.
+RegistrationResult Odometry::Reacquire(Frame& frame, const RegistrationResult& first,
+                                       OdometryResult& result) {
+  MotionPrior none;
+  none.holds = false;
+  frame.T_guess = frame.T_pred;
+  RegistrationResult reg = first;
+  std::size_t lookups = first.searched_points;
+  for (double widening : {4.0, 2.0, 1.0}) {
+    reg = RegisterSource(frame, none, widening);
+    lookups += reg.searched_points;
+    if (!reg.enough_correspondences) break;
+    frame.T_guess = reg.T_world_sensor;
+  }
+  frame.T_guess = frame.T_pred;
+  OdometryResult judged;
+  const Tracking tracking = JudgeFit(frame, reg, judged);
+  if (tracking == Tracking::kLost) {
+    RegistrationResult kept = first;
+    kept.searched_points = lookups;
+    return kept;
+  }
+  reg.searched_points = lookups;
+  result.tracking = tracking == Tracking::kTracking ? Tracking::kDegraded : tracking;
+  result.paired_share = judged.paired_share;
+  result.innovation = judged.innovation;
+  translation_filter_.Reset();  // the velocity it predicted with was wrong
+  return reg;
+}
+
+// After a gap (the sensor covered, a driver restarted) the carrier may have stood or driven
+// on: both are tried, each from a wide gate narrowing to the usual, and the better fit is
+// kept (more of the scan paired; the registration from standstill on a tie).
+RegistrationResult Odometry::AcrossTheGap(Frame& frame, double dt, const RegistrationResult& standing,
+                                          OdometryResult& result) {
+  if (velocity_before_gap_.isZero()) return standing;
+  const Eigen::Isometry3d T_standing = frame.T_pred;
+  MotionPrior none;
+  none.holds = false;
+  std::size_t lookups = standing.searched_points;
+  auto widening_from = [&](const Eigen::Isometry3d& guess) {
+    frame.T_guess = guess;
+    RegistrationResult reg;
+    for (double widening : {4.0, 2.0, 1.0}) {
+      reg = RegisterSource(frame, none, widening);
+      lookups += reg.searched_points;
+      if (!reg.enough_correspondences) break;
+      frame.T_guess = reg.T_world_sensor;
+    }
+    return reg;
+  };
+  RegistrationResult best = widening_from(T_standing);
+  OdometryResult best_judged;
+  Tracking best_tracking = JudgeFit(frame, best, best_judged);
+  const Eigen::Isometry3d T_driving = T_world_last_ * ExpSE3(velocity_before_gap_ * dt);
+  RegistrationResult driving = widening_from(T_driving);
+  frame.T_pred = T_driving;
+  OdometryResult driving_judged;
+  const Tracking driving_tracking = JudgeFit(frame, driving, driving_judged);
+  if (driving.enough_correspondences &&
+      (!best.enough_correspondences || driving_judged.paired_share > best_judged.paired_share)) {
+    best = driving;
+    best_judged = driving_judged;
+    best_tracking = driving_tracking;
+  } else {
+    frame.T_pred = T_standing;
+  }
+  frame.T_guess = frame.T_pred;
+  if (!best.enough_correspondences) return standing;
+  best.searched_points = lookups;
+  result.tracking = best_tracking == Tracking::kTracking ? Tracking::kDegraded : best_tracking;
+  result.paired_share = best_judged.paired_share;
+  result.innovation = best_judged.innovation;
+  return best;
+}
+
+bool Odometry::StartOverAfterLoss() {
+  ++consecutive_lost_;
+  const int limit = config_.health.restart_after_lost_scans;
+  return limit > 0 && consecutive_lost_ >= limit;
+}
+
+// The map no longer overlaps what the sensor sees (it was carried away, or the scene changed
+// while it was covered): started over at the prediction, with this scan, as at the first scan
+// but in the same world frame.
+void Odometry::Restart(Frame& frame) {
+  map_ = VoxelHashMap(map_.voxel_size(), config_.map.max_distance, config_.map.max_points_per_voxel);
+  map_shapes_ = ShapeCache();
+  persistence_.Clear();
+  moving_.Clear();
+  health_.Clear();
+  velocity_.setZero();
+  translation_filter_.Reset();
+  motion_model_holds_ = false;
+  last_scan_degenerate_ = false;
+  consecutive_lost_ = 0;
+  frame.moving.clear();
+}
+
 void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
   result.correspondence_gate = kGateSigmas * threshold_.Sigma();
   result.covariance = reg.covariance;
-  result.pose_covariance = PoseCovariance(reg);
   result.degeneracy = reg.degeneracy;
   result.alpha = reg.alpha;
   result.num_correspondences = reg.num_planar + reg.num_point;
@@ -461,11 +603,16 @@ void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
   result.converged = reg.converged;
 }
 
-// Too few pairs: nothing is learnt; the pose reported is the prediction, at the scan start
-// like every other pose.
-OdometryResult Odometry::Unregistered(OdometryResult result, const Frame& frame) const {
-  result.status = OdometryStatus::kTooFewCorrespondences;
-  result.T_world_sensor = Normalized(frame.T_guess * frame.T_mid_start);
+// Too few pairs, or a fit judged lost: nothing is learnt; the pose reported is the prediction,
+// at the scan start like every other pose, and its covariance grows by what a lost scan can hide.
+OdometryResult Odometry::Unregistered(OdometryResult result, const Frame& frame,
+                                      OdometryStatus status) {
+  result.status = status;
+  result.tracking = Tracking::kLost;
+  result.T_world_sensor = Normalized(frame.T_pred * frame.T_mid_start);
+  last_pose_covariance_.topLeftCorner<3, 3>() += kLostTranslationVariance * Eigen::Matrix3d::Identity();
+  last_pose_covariance_.bottomRightCorner<3, 3>() += kLostRotationVariance * Eigen::Matrix3d::Identity();
+  result.pose_covariance = last_pose_covariance_;
   return result;
 }
 

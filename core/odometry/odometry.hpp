@@ -90,13 +90,26 @@ class Odometry {
   double TimeStep(double t_start, OdometryStatus& status);
   Frame Deskew(ClassifiedScan&& scan) const;
   RegistrationResult RegisterFrame(Frame& frame, double dt);
-  RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior);
+  RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior,
+                                    double gate_widening = 1.0);
+  Tracking JudgeFit(const Frame& frame, const RegistrationResult& reg, OdometryResult& result) const;
+  RegistrationResult Reacquire(Frame& frame, const RegistrationResult& first,
+                               OdometryResult& result);
+  RegistrationResult AcrossTheGap(Frame& frame, double dt, const RegistrationResult& standing,
+                                  OdometryResult& result);
+  // Counts a lost scan; true once config_.health says the map is to be started over.
+  bool StartOverAfterLoss();
+  void Restart(Frame& frame);
   RegistrationResult RedeskewAndRegister(Frame& frame, const RegistrationResult& first, double dt);
   Eigen::Isometry3d StartPose(const Frame& frame, const Eigen::Isometry3d& T_mid,
                               bool first) const;
   static double Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T);
   void Describe(const RegistrationResult& reg, OdometryResult& result);
-  OdometryResult Unregistered(OdometryResult result, const Frame& frame) const;
+  OdometryResult Unregistered(OdometryResult result, const Frame& frame, OdometryStatus status);
+  // What one lost scan adds to the pose's covariance: a walker's metre and a turn of 18 deg
+  // (1 sigma) that the odometry could not see.
+  static constexpr double kLostTranslationVariance = 1.0;   // m^2
+  static constexpr double kLostRotationVariance = 0.1;      // rad^2
   void UpdateMotionModel(const Frame& frame, const RegistrationResult& reg, double dt,
                          OdometryStatus status);
   void InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving,
@@ -126,6 +139,10 @@ class Odometry {
   // observed (world frame).
   Eigen::Matrix3d unobserved_covariance_ = Eigen::Matrix3d::Zero();
   TranslationFilter translation_filter_;
+  TrackingHealth health_;
+  int consecutive_lost_ = 0;
+  Vector6d velocity_before_gap_ = Vector6d::Zero();  // the motion model's, when a gap reset it
+  Matrix6d last_pose_covariance_ = Matrix6d::Zero();
   // The first scan before deskewing, until the first registration has measured the motion.
   std::optional<ClassifiedScan> first_scan_raw_;
   // A deferred map update: the registered scan (mid-scan frame) and its pose.

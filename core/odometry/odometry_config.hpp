@@ -2,6 +2,7 @@
 
 #include "core/map/map_config.hpp"
 #include "core/odometry/moving_points.hpp"
+#include "core/odometry/tracking_health.hpp"
 #include "core/odometry/translation_filter.hpp"
 #include "core/preprocess/preprocess_config.hpp"
 #include "core/registration/registration_config.hpp"
@@ -72,6 +73,7 @@ struct OdometryConfig {
   // A registration farther off while the model has not held (start while moving, after a
   // reset) is deskewed again with the motion it measured and refined once more.
   double motion_model_max_deviation = 0.1;
+  TrackingHealthConfig health;
 };
 
 }  // namespace dammloam

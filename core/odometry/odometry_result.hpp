@@ -8,6 +8,8 @@
 
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/se3.hpp"
+#include "core/odometry/tracking_health.hpp"
+#include "core/preprocess/point_times.hpp"
 
 namespace dammloam {
 
@@ -20,8 +22,9 @@ struct DegeneracyReport {
   bool AnyDegenerate() const { return degenerate[0] || degenerate[1] || degenerate[2]; }
 };
 
-// What happened to a scan. Only kOk, kFirstScan and kTimeGap registered it and updated the
-// map; the others leave the odometry state untouched and report the last (or predicted) pose.
+// What happened to a scan. Only kOk, kFirstScan, kTimeGap and kRestarted registered it and
+// updated the map; the others leave the odometry state untouched and report the last (or
+// predicted) pose.
 enum class OdometryStatus : std::uint8_t {
   kOk = 0,
   kFirstScan,              // initialised the map; pose is identity
@@ -30,11 +33,15 @@ enum class OdometryStatus : std::uint8_t {
   kTooFewPoints,           // fewer valid points than OdometryConfig::min_points
   kNonIncreasingStamp,     // stamp <= previous stamp (duplicate or out of order)
   kTooFewCorrespondences,  // registration found too few pairs; pose is the prediction
+  kLost,                   // registration fitted far worse than recent scans (TrackingHealth),
+                           // also from a wider search; pose is the prediction
+  kRestarted,              // after consecutive lost scans the local map was started over at
+                           // the prediction with this scan
 };
 
 constexpr bool Registered(OdometryStatus s) {
   return s == OdometryStatus::kOk || s == OdometryStatus::kFirstScan ||
-         s == OdometryStatus::kTimeGap;
+         s == OdometryStatus::kTimeGap || s == OdometryStatus::kRestarted;
 }
 
 constexpr std::string_view Name(OdometryStatus s) {
@@ -46,6 +53,8 @@ constexpr std::string_view Name(OdometryStatus s) {
     case OdometryStatus::kTooFewPoints: return "too_few_points";
     case OdometryStatus::kNonIncreasingStamp: return "non_increasing_stamp";
     case OdometryStatus::kTooFewCorrespondences: return "too_few_correspondences";
+    case OdometryStatus::kLost: return "lost";
+    case OdometryStatus::kRestarted: return "restarted";
   }
   return "unknown";
 }
@@ -78,6 +87,14 @@ struct OdometryResult {
   // which unlike its time does not depend on the machine's load.
   std::size_t searched_points = 0;
   bool converged = false;
+  // Whether the scan's point times drove its deskew (kUsable) or why not: a scan whose times
+  // are absent, constant or out of firing order is registered as instantaneous.
+  PointTimeCheck point_times = PointTimeCheck::kUsable;
+  // Whether the pose is measured (TrackingHealth): tracking, degraded, or lost (not registered,
+  // for any reason but a duplicate stamp; the pose is the prediction).
+  Tracking tracking = Tracking::kTracking;
+  double innovation = 0.0;  // metres: the registered pose against the constant-velocity prediction
+  double paired_share = 0.0;  // of the registration's source points that found a pair
   double correspondence_gate = 0.0;  // metres: 3 sigma of the adaptive threshold, this scan's
   StageTimings timings;
   // The deskewed scan in the sensor frame at scan start, with labels and normals, for

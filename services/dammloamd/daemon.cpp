@@ -370,7 +370,7 @@ void Daemon::Publish(const RegisteredScan& item) {
   odom.input_seq = item.meta.seq;
   odom.latency_ms = MillisecondsSince(item.meta.received);
   odometry_writer_.Write(odom);
-  stats_.Processed(odom.latency_ms);
+  stats_.Processed(odom.latency_ms, Name(r.tracking), Name(r.point_times));
 
   if (ros2_) {
     // REP 105: the odometry stays continuous in odom; what localization adds is map -> odom.
@@ -548,6 +548,10 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.samples_undeserializable = s.samples_undeserializable;
   msg.incompatible_qos = s.incompatible_qos;
   ViewAsSequence(middleware, msg.middleware_by_reason);
+  msg.tracking = const_cast<char*>(s.tracking.c_str());
+  msg.scans_degraded = s.degraded;
+  msg.scans_lost = s.lost;
+  msg.scans_without_point_times = s.without_point_times;
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

@@ -34,9 +34,14 @@ void DaemonStats::Received() {
   ++counters_.received;
 }
 
-void DaemonStats::Processed(double latency_ms) {
+void DaemonStats::Processed(double latency_ms, std::string_view tracking,
+                            std::string_view point_times) {
   std::lock_guard lock(mutex_);
   ++counters_.processed;
+  counters_.tracking = tracking;
+  counters_.degraded += tracking == "degraded";
+  counters_.lost += tracking == "lost";
+  counters_.without_point_times += point_times != "usable" && point_times != "absent";
   latencies_ms_.push_back(latency_ms);
   if (latencies_ms_.size() > kLatencyWindow) latencies_ms_.pop_front();
 }

@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <string_view>
 
 #include "services/dds/middleware_watch.hpp"
 
@@ -29,6 +30,9 @@ struct StatusSnapshot {
   std::uint64_t samples_lost = 0, samples_rejected = 0, samples_undeserializable = 0,
                 incompatible_qos = 0;
   std::map<std::string, std::uint64_t> middleware_by_reason;  // dds::MiddlewareEvent::Reason()
+  // Tracking health (Odometry.tracking) and scans whose point times could not drive a deskew.
+  std::string tracking = "tracking";  // the newest scan's
+  std::uint64_t degraded = 0, lost = 0, without_point_times = 0;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -37,7 +41,9 @@ struct StatusSnapshot {
 class DaemonStats {
  public:
   void Received();
-  void Processed(double latency_ms);
+  // A published pose; `tracking` and `point_times` are its Name()s.
+  void Processed(double latency_ms, std::string_view tracking = "tracking",
+                 std::string_view point_times = "usable");
   void Dropped(const std::string& where);
   void Rejected(const std::string& code, const std::string& message);
   // An error that is not about a scan (a failed command): counted and shown as last_error.

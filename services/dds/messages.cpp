@@ -46,6 +46,9 @@ dammloam_msg_Odometry ToMsgOdometry(const OdometryResult& result, const std::str
   msg.iterations = result.iterations;
   msg.converged = result.converged;
   msg.processing_ms = result.timings.total_ms;
+  // Names are string_views into static storage: NUL-terminated literals.
+  msg.tracking = const_cast<char*>(Name(result.tracking).data());
+  msg.point_times = const_cast<char*>(Name(result.point_times).data());
   return msg;
 }
 

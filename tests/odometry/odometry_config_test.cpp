@@ -99,6 +99,11 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(min_points);
   DAMMLOAM_EXPECT_SAME(max_time_gap);
   DAMMLOAM_EXPECT_SAME(motion_model_max_deviation);
+  DAMMLOAM_EXPECT_SAME(health.reference_scans);
+  DAMMLOAM_EXPECT_SAME(health.degraded_pair_share);
+  DAMMLOAM_EXPECT_SAME(health.lost_pair_share);
+  DAMMLOAM_EXPECT_SAME(health.max_innovation_gates);
+  DAMMLOAM_EXPECT_SAME(health.restart_after_lost_scans);
 #undef DAMMLOAM_EXPECT_SAME
 }
 
@@ -108,6 +113,7 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
       "               point_shape_min_points: 12, line_normal_support: 0.25, coarse_stride: 1}\n"
       "map: {voxel_size: 0.4}\n"
       "preprocess: {classifier: {edge_angle_deg: 20}}\ndeskew: false\n"
+      "health: {lost_pair_share: 0.2, restart_after_lost_scans: 0}\n"
       "motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
       "               in_scan_angular_acceleration_sigma: 0,\n"
       "               in_scan_spin_axis_acceleration_sigma: 0}\n"));
@@ -116,6 +122,8 @@ TEST(OdometryConfigYaml, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(c.map.voxel_size, 0.4);
   EXPECT_DOUBLE_EQ(c.preprocess.classifier.edge_angle_deg, 20.0);
   EXPECT_FALSE(c.deskew);
+  EXPECT_DOUBLE_EQ(c.health.lost_pair_share, 0.2);
+  EXPECT_EQ(c.health.restart_after_lost_scans, 0);
   EXPECT_DOUBLE_EQ(c.registration.max_step_extrapolation, 1.0);
   EXPECT_EQ(c.registration.point_shape_min_points, 12);
   EXPECT_DOUBLE_EQ(c.registration.line_normal_support, 0.25);

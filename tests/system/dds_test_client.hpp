@@ -38,6 +38,8 @@ struct ReceivedPose {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   bool registered = false;
   std::string status;
+  std::string tracking;
+  std::string point_times;
 };
 
 struct ReceivedStatus {
@@ -52,13 +54,16 @@ struct ReceivedStatus {
   std::uint64_t samples_lost = 0, samples_rejected = 0, samples_undeserializable = 0,
                 incompatible_qos = 0;
   std::map<std::string, std::uint64_t> middleware_by_reason;
+  std::string tracking;
+  std::uint64_t degraded = 0, lost = 0, without_point_times = 0;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
   ReceivedStatus s{m.is_error_event, m.state, m.last_error, m.scans_received, m.scans_processed,
                    m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
                    m.publish_errors, m.backend_errors, m.loop_closure, m.samples_lost,
-                   m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {}};
+                   m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {},
+                   m.tracking, m.scans_degraded, m.scans_lost, m.scans_without_point_times};
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;
   }
@@ -115,7 +120,7 @@ class DdsTestClient {
   void Poll() {
     odometry_.TakeEach([this](const dammloam_msg_Odometry& m, const dds_sample_info_t&) {
       poses.push_back({m.header.stamp, m.input_seq, dds::FromMsgPose(m.pose), m.registered,
-                       m.status});
+                       m.status, m.tracking, m.point_times});
     }, 64);
     status_.TakeEach([this](const dammloam_msg_DaemonStatus& m, const dds_sample_info_t&) {
       statuses.push_back(CopyStatus(m));

@@ -50,6 +50,8 @@ TEST_F(DaemonPipeline, EveryScanYieldsOneOdometryAndALabelledCloudWithValidLabel
     EXPECT_EQ(client.poses[static_cast<std::size_t>(i)].input_seq, static_cast<std::uint64_t>(i));
     EXPECT_TRUE(client.poses[static_cast<std::size_t>(i)].registered)
         << client.poses[static_cast<std::size_t>(i)].status;
+    EXPECT_EQ(client.poses[static_cast<std::size_t>(i)].tracking, "tracking") << "scan " << i;
+    EXPECT_EQ(client.poses[static_cast<std::size_t>(i)].point_times, "usable") << "scan " << i;
   }
   // The threaded daemon made the same core calls as the single-threaded pipeline (same
   // predicted orientation for the features): identical poses, whatever their accuracy.

@@ -43,6 +43,10 @@ std::string FormatTable(const TrajectoryMetrics& m) {
                   100.0 * m.rpe_tail.gaussian_share_at_least);
     out += line;
   }
+  std::snprintf(line, sizeof(line), "tracked steps (< %.2g m and %.2g deg): %zu of %zu (%.1f %%)\n",
+                kTrackedStepMetres, kTrackedStepDegrees, m.tracked_steps, m.steps,
+                m.steps ? 100.0 * double(m.tracked_steps) / double(m.steps) : 0.0);
+  out += line;
   std::snprintf(line, sizeof(line), "path length: %.3f m, end drift: %.4f m (%.3f %%)\n",
                 m.path_length_m, m.end_drift_m, m.drift_percent);
   out += line;
@@ -70,6 +74,8 @@ std::string FormatJson(const TrajectoryMetrics& m) {
       {"end_drift_m", m.end_drift_m},
       {"path_length_m", m.path_length_m},
       {"pairs", m.pairs},
+      {"tracked_steps", m.tracked_steps},
+      {"steps", m.steps},
       {"unmatched_gt", m.unmatched_gt},
       {"unmatched_est", m.unmatched_est},
       {"alignment",

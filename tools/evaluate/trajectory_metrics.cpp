@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -77,6 +78,19 @@ std::vector<double> RpeTranslationErrors(const MatchedTrajectories& matched) {
   return Norms(RpeTranslationVectors(matched));
 }
 
+std::size_t TrackedSteps(const MatchedTrajectories& matched) {
+  std::size_t tracked = 0;
+  const double max_angle = kTrackedStepDegrees * std::numbers::pi / 180.0;
+  for (std::size_t i = 0; i + 1 < matched.gt.size(); ++i) {
+    const Eigen::Isometry3d gt_delta = matched.gt[i].T.inverse() * matched.gt[i + 1].T;
+    const Eigen::Isometry3d est_delta = matched.est[i].T.inverse() * matched.est[i + 1].T;
+    const Eigen::Isometry3d error = gt_delta.inverse() * est_delta;
+    const double angle = Eigen::AngleAxisd(error.rotation()).angle();
+    tracked += error.translation().norm() < kTrackedStepMetres && angle < max_angle;
+  }
+  return tracked;
+}
+
 TrajectoryMetrics EvaluateTrajectories(const std::vector<io::StampedPose>& gt,
                                        const std::vector<io::StampedPose>& est,
                                        const EvaluateOptions& options) {
@@ -97,6 +111,8 @@ TrajectoryMetrics EvaluateTrajectories(const std::vector<io::StampedPose>& gt,
   const std::vector<Eigen::Vector3d> frame_errors = RpeTranslationVectors(matched);
   metrics.rpe = ComputeStats(Norms(frame_errors));
   metrics.rpe_tail = AnalyseFrameTail(frame_errors);
+  metrics.steps = matched.gt.size() - 1;
+  metrics.tracked_steps = TrackedSteps(matched);
   metrics.path_length_m = PathLength(metrics.gt_positions);
   metrics.end_drift_m = EndDrift(matched);
   metrics.drift_percent = metrics.path_length_m > 0.0

@@ -26,6 +26,10 @@ struct TrajectoryMetrics {
   double path_length_m = 0.0;  // of the matched ground-truth poses
   double end_drift_m = 0.0;    // |t_gt_end - t_est_end| with the first poses made equal
   double drift_percent = 0.0;  // end_drift_m / path_length_m * 100; NaN for a zero path
+  // Steps between consecutive matched poses whose relative error is under kTrackedStepMetres
+  // and kTrackedStepDegrees: the share a robot could have used (issue 58's measure).
+  std::size_t tracked_steps = 0;
+  std::size_t steps = 0;
   std::size_t pairs = 0;
   std::size_t unmatched_gt = 0;
   std::size_t unmatched_est = 0;
@@ -33,6 +37,12 @@ struct TrajectoryMetrics {
   std::vector<Eigen::Vector3d> gt_positions;
   std::vector<Eigen::Vector3d> est_positions_aligned;
 };
+
+inline constexpr double kTrackedStepMetres = 0.1;
+inline constexpr double kTrackedStepDegrees = 2.0;
+
+// Consecutive matched pairs whose relative pose error is below both tracked-step bounds.
+std::size_t TrackedSteps(const MatchedTrajectories& matched);
 
 // T such that T * est ~ gt in the least-squares sense over positions (Umeyama 1991, no scale).
 Eigen::Isometry3d AlignUmeyama(const std::vector<Eigen::Vector3d>& est,
