@@ -134,6 +134,8 @@ void ReadHealth(Section s, TrackingHealthConfig& h) {
   s.Get("lost_pair_share", h.lost_pair_share);
   s.Get("max_innovation_gates", h.max_innovation_gates);
   s.Get("restart_after_lost_scans", h.restart_after_lost_scans);
+  s.Get("max_turn_rate_deg_s", h.max_turn_rate_deg_s);
+  s.Get("search_after_turn_deg", h.search_after_turn_deg);
   s.RejectUnknownKeys();
 }
 
@@ -260,6 +262,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(h.lost_pair_share >= 0.0 && h.lost_pair_share <= h.degraded_pair_share &&
               h.degraded_pair_share <= 1.0,
           "health.lost_pair_share", "must satisfy 0 <= lost_pair_share <= degraded_pair_share <= 1");
+  Require(h.max_turn_rate_deg_s >= 0.0, "health.max_turn_rate_deg_s", "must be >= 0");
+  Require(h.search_after_turn_deg > 0.0, "health.search_after_turn_deg", "must be > 0");
   Require(h.max_innovation_gates > 0.0, "health.max_innovation_gates", "must be > 0");
   Require(h.restart_after_lost_scans >= 0, "health.restart_after_lost_scans",
           "must be >= 0 (0: never start the map over)");

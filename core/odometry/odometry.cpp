@@ -197,12 +197,19 @@ Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan,
   return source;
 }
 
+bool Odometry::Consecutive(double dt) const { return dt <= 1.5 * sensor_.scan_period; }
+
+// The deskew velocity is the mean over the interval since the last registered scan. Between
+// sparse scans (a stream kept at 2 Hz) a trot's 0.36 rad/s pitch rate averages out, so the
+// scan's own turn rate may depart from it in proportion to the interval. Its linear velocity
+// may not: freed, it let a 2 Hz corridor walk (seed 3) slide 10 m along the weak axis.
 MotionPrior Odometry::Prior(double dt, bool holds) {
   if (!UsesMotionPrior(config_.registration.mode)) return {holds, {}, 0.0};
   const Eigen::Matrix3d covariance = translation_filter_.Predict(dt);
+  const double sparse = Consecutive(dt) ? 1.0 : dt / sensor_.scan_period;
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
           config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
-          config_.in_scan_rate_sigma, config_.in_scan_angular_acceleration_sigma,
+          sparse * config_.in_scan_rate_sigma, config_.in_scan_angular_acceleration_sigma,
           config_.in_scan_spin_axis_acceleration_sigma};
 }
 
@@ -285,9 +292,9 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     RegistrationResult reg = RegisterFrame(frame, dt);
     result.tracking = JudgeFit(frame, reg, result);
     if (result.status == OdometryStatus::kTimeGap) reg = AcrossTheGap(frame, dt, reg, result);
-    if (result.tracking == Tracking::kLost && reg.enough_correspondences) {
-      reg = Reacquire(frame, reg, result);
-    }
+    const bool poor_fit = result.tracking == Tracking::kLost || health_.FewPairs(result.paired_share) ||
+                          result.turn_innovation_deg > config_.health.search_after_turn_deg;
+    if (poor_fit && reg.enough_correspondences) reg = Reacquire(frame, dt, reg, result);
     result.timings.registration_ms = watch.LapMs();
     Describe(reg, result);
     if (result.tracking == Tracking::kLost) {
@@ -472,6 +479,9 @@ Eigen::Isometry3d Odometry::StartPose(const Frame& frame, const Eigen::Isometry3
   if (!config_.interpolate_start_pose || !deskewed || first) return extrapolated;
   const double half = 0.5 * sensor_.scan_period;
   const double dt = frame.scan.scan.t_start - last_stamp_;
+  // Between sparse scans the motion across the start is not the mean over the interval: the
+  // scan's own (measured) motion extrapolates better.
+  if (!Consecutive(dt)) return extrapolated;
   const double f = std::clamp((dt - half) / dt, 0.0, 1.0);
   return Normalized(T_world_last_ * ExpSE3(f * LogSE3(T_world_last_.inverse() * T_mid)));
 }
@@ -487,20 +497,20 @@ Tracking Odometry::JudgeFit(const Frame& frame, const RegistrationResult& reg,
   const std::size_t source = frame.source.points.size();
   result.paired_share = source == 0 ? 0.0 : double(reg.num_planar + reg.num_point) / double(source);
   result.innovation = Deviation(frame.T_pred, reg.T_world_sensor);
+  result.turn_innovation_deg =
+      Eigen::AngleAxisd((frame.T_pred.inverse() * reg.T_world_sensor).rotation()).angle() * 180.0 / M_PI;
   return health_.Judge({reg.converged, result.paired_share, result.innovation,
                         kGateSigmas * threshold_.Sigma()});
 }
 
-// A registration that lost its fit may have started outside the right basin (a fast turn, a
-// jolt): registered again from the prediction with gates 4x and 2x the usual, narrowing to it,
-// without the motion prior that held it near the wrong guess. Taken only if it fits.
-RegistrationResult Odometry::Reacquire(Frame& frame, const RegistrationResult& first,
-                                       OdometryResult& result) {
+// Registration from `guess` with gates 4x, 2x, then 1x the usual, without the motion prior
+// that would hold it near a wrong prediction. Adds the map look-ups to `lookups`.
+RegistrationResult Odometry::WideningFrom(Frame& frame, const Eigen::Isometry3d& guess,
+                                          std::size_t& lookups) {
   MotionPrior none;
   none.holds = false;
-  frame.T_guess = frame.T_pred;
-  RegistrationResult reg = first;
-  std::size_t lookups = first.searched_points;
+  frame.T_guess = guess;
+  RegistrationResult reg;
   for (double widening : {4.0, 2.0, 1.0}) {
     reg = RegisterSource(frame, none, widening);
     lookups += reg.searched_points;
@@ -508,19 +518,50 @@ RegistrationResult Odometry::Reacquire(Frame& frame, const RegistrationResult& f
     frame.T_guess = reg.T_world_sensor;
   }
   frame.T_guess = frame.T_pred;
-  OdometryResult judged;
-  const Tracking tracking = JudgeFit(frame, reg, judged);
-  if (tracking == Tracking::kLost) {
+  return reg;
+}
+
+// A registration that lost its fit, or paired far fewer points than recent scans did, may have
+// started outside the right basin: a fast turn (a hand-held sensor swung sideways, a U-turn
+// between sparse scans) leaves the prediction tens of degrees off, a jolt leaves it far.
+// Registered again from the prediction turned about the vertical by 0, +-20, +-40, +-60 and
+// +-90 deg (as far as the carrier can turn in the interval), each with widening gates; the
+// one that pairs the most points is taken if it is not lost and pairs more than the first
+// registration, else the first registration stands (lost or degraded, as judged).
+RegistrationResult Odometry::Reacquire(Frame& frame, double dt, const RegistrationResult& first,
+                                       OdometryResult& result) {
+  std::size_t lookups = first.searched_points;
+  std::optional<RegistrationResult> best;
+  OdometryResult best_judged;
+  best_judged.paired_share = result.tracking == Tracking::kLost ? -1.0 : result.paired_share;
+  Tracking best_tracking = Tracking::kLost;
+  const double reach = std::min(90.0, config_.health.max_turn_rate_deg_s * dt);
+  for (double degrees : {0.0, 20.0, -20.0, 40.0, -40.0, 60.0, -60.0, 90.0, -90.0}) {
+    if (std::abs(degrees) > reach + 1e-9) continue;
+    Eigen::Isometry3d guess = frame.T_pred;
+    guess.linear() = Eigen::AngleAxisd(degrees * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * guess.linear();
+    RegistrationResult reg = WideningFrom(frame, guess, lookups);
+    OdometryResult judged;
+    const Tracking tracking = JudgeFit(frame, reg, judged);
+    if (tracking == Tracking::kLost) continue;
+    if (!best || judged.paired_share > best_judged.paired_share) {
+      best = reg;
+      best_judged = judged;
+      best_tracking = tracking;
+    }
+  }
+  if (!best) {
     RegistrationResult kept = first;
     kept.searched_points = lookups;
     return kept;
   }
-  reg.searched_points = lookups;
-  result.tracking = tracking == Tracking::kTracking ? Tracking::kDegraded : tracking;
-  result.paired_share = judged.paired_share;
-  result.innovation = judged.innovation;
+  best->searched_points = lookups;
+  result.tracking = best_tracking == Tracking::kTracking ? Tracking::kDegraded : best_tracking;
+  result.paired_share = best_judged.paired_share;
+  result.innovation = best_judged.innovation;
+  result.turn_innovation_deg = best_judged.turn_innovation_deg;
   translation_filter_.Reset();  // the velocity it predicted with was wrong
-  return reg;
+  return *best;
 }
 
 // After a gap (the sensor covered, a driver restarted) the carrier may have stood or driven
@@ -530,25 +571,12 @@ RegistrationResult Odometry::AcrossTheGap(Frame& frame, double dt, const Registr
                                           OdometryResult& result) {
   if (velocity_before_gap_.isZero()) return standing;
   const Eigen::Isometry3d T_standing = frame.T_pred;
-  MotionPrior none;
-  none.holds = false;
   std::size_t lookups = standing.searched_points;
-  auto widening_from = [&](const Eigen::Isometry3d& guess) {
-    frame.T_guess = guess;
-    RegistrationResult reg;
-    for (double widening : {4.0, 2.0, 1.0}) {
-      reg = RegisterSource(frame, none, widening);
-      lookups += reg.searched_points;
-      if (!reg.enough_correspondences) break;
-      frame.T_guess = reg.T_world_sensor;
-    }
-    return reg;
-  };
-  RegistrationResult best = widening_from(T_standing);
+  RegistrationResult best = WideningFrom(frame, T_standing, lookups);
   OdometryResult best_judged;
   Tracking best_tracking = JudgeFit(frame, best, best_judged);
   const Eigen::Isometry3d T_driving = T_world_last_ * ExpSE3(velocity_before_gap_ * dt);
-  RegistrationResult driving = widening_from(T_driving);
+  RegistrationResult driving = WideningFrom(frame, T_driving, lookups);
   frame.T_pred = T_driving;
   OdometryResult driving_judged;
   const Tracking driving_tracking = JudgeFit(frame, driving, driving_judged);

@@ -69,6 +69,8 @@ class Odometry {
   void DetectMoving(Frame& frame, double dt);
   double MidScanStamp(double t_start) const;
   std::size_t RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor);
+  // Scans dt apart follow each other (a sparser stream, kept at 2-5 Hz, or after drops: not).
+  bool Consecutive(double dt) const;
   // The constant-velocity prediction's prior over a scan interval dt.
   MotionPrior Prior(double dt, bool holds);
   void CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const;
@@ -93,7 +95,8 @@ class Odometry {
   RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior,
                                     double gate_widening = 1.0);
   Tracking JudgeFit(const Frame& frame, const RegistrationResult& reg, OdometryResult& result) const;
-  RegistrationResult Reacquire(Frame& frame, const RegistrationResult& first,
+  RegistrationResult WideningFrom(Frame& frame, const Eigen::Isometry3d& guess, std::size_t& lookups);
+  RegistrationResult Reacquire(Frame& frame, double dt, const RegistrationResult& first,
                                OdometryResult& result);
   RegistrationResult AcrossTheGap(Frame& frame, double dt, const RegistrationResult& standing,
                                   OdometryResult& result);

@@ -94,6 +94,7 @@ struct OdometryResult {
   // for any reason but a duplicate stamp; the pose is the prediction).
   Tracking tracking = Tracking::kTracking;
   double innovation = 0.0;  // metres: the registered pose against the constant-velocity prediction
+  double turn_innovation_deg = 0.0;  // the same for the orientation
   double paired_share = 0.0;  // of the registration's source points that found a pair
   double correspondence_gate = 0.0;  // metres: 3 sigma of the adaptive threshold, this scan's
   StageTimings timings;

@@ -13,6 +13,12 @@ double TrackingHealth::ReferenceShare() const {
   return *mid;
 }
 
+bool TrackingHealth::FewPairs(double paired_share) const {
+  const double reference = ReferenceShare();
+  return recent_shares_.size() >= 3 && reference > 0.0 &&
+         paired_share < config_.degraded_pair_share * reference;
+}
+
 Tracking TrackingHealth::Judge(const FitEvidence& fit) const {
   const double reference = ReferenceShare();
   // Until a few scans have been registered there is nothing to compare against.

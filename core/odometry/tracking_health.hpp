@@ -34,6 +34,13 @@ struct TrackingHealthConfig {
   // Consecutive lost scans after which the odometry starts its local map over at the
   // prediction instead of waiting for a map it no longer overlaps (0: never).
   int restart_after_lost_scans = 10;
+  // The fastest the carrier turns (a hand-held sensor swung sideways: 120 deg/s): re-acquisition
+  // tries predictions turned by up to this times the interval, at most 90 deg. At 10 Hz that is
+  // 20 deg, so a scan turned further than a hand can turn it stays lost.
+  double max_turn_rate_deg_s = 200.0;
+  // A registration that turned this far from the prediction (deg) is searched again as well:
+  // a prediction tens of degrees off can converge into a neighbouring basin that fits well.
+  double search_after_turn_deg = 25.0;
   // The registered pose lay this many correspondence gates from the prediction: its pairs were
   // found from a guess that far off, so the basin may be the wrong one (degraded).
   double max_innovation_gates = 1.0;
@@ -54,6 +61,9 @@ class TrackingHealth {
  public:
   explicit TrackingHealth(const TrackingHealthConfig& config) : config_(config) {}
   Tracking Judge(const FitEvidence& fit) const;
+  // The paired share is below degraded_pair_share of the reference (once there is one): the
+  // registration may sit in the wrong basin, even where it converged.
+  bool FewPairs(double paired_share) const;
   // A registered scan (tracking or degraded): its paired share joins the reference.
   void Record(double paired_share);
   // The map was started over: what good fits looked like no longer applies.

@@ -104,6 +104,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(health.lost_pair_share);
   DAMMLOAM_EXPECT_SAME(health.max_innovation_gates);
   DAMMLOAM_EXPECT_SAME(health.restart_after_lost_scans);
+  DAMMLOAM_EXPECT_SAME(health.max_turn_rate_deg_s);
+  DAMMLOAM_EXPECT_SAME(health.search_after_turn_deg);
 #undef DAMMLOAM_EXPECT_SAME
 }
 

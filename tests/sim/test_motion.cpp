@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -291,7 +292,8 @@ TEST(Presets, NamesAndDefaults) {
                                              "legged-tunnel",            "handheld-endless",
                                              "handheld-campus",          "wheeled-zigzag",
                                              "handheld-corridor-people", "wheeled-zigzag-people",
-                                             "campus-crowd",             "follow-me"};
+                                             "campus-crowd",             "follow-me",
+                                             "handheld-look-around"};
   EXPECT_EQ(PresetNames(), expected);
   for (const std::string& name : expected) {
     const auto p = FindPreset(name);
@@ -343,6 +345,33 @@ TEST(Presets, HandheldCorridorGoesOutTurnsAndComesBack) {
     EXPECT_LT(run.speeds.back(), 0.05) << seed;
     EXPECT_GT(run.speeds[run.speeds.size() - 60], 0.3) << seed;
   }
+}
+
+// The operator of handheld-look-around swings the sensor sideways and back: the heading leaves
+// the path's by 45-100 deg at up to 120 deg/s about six times a minute, so that every 5th scan
+// (2 Hz) can be tens of degrees from the last; without the swings the walk turns slowly.
+TEST(Presets, LookAroundSwingsTheSensorFastAndFar) {
+  auto yaw_steps = [](const Preset& preset, int every) {
+    const Simulator sim(preset, Vlp16(), 1);
+    std::vector<double> steps;
+    for (int i = every; i < preset.scans; i += every) {
+      const Eigen::Isometry3d a = sim.PoseAt(sim.ScanStartTime(i - every));
+      const Eigen::Isometry3d b = sim.PoseAt(sim.ScanStartTime(i));
+      steps.push_back(Eigen::AngleAxisd((a.inverse() * b).rotation()).angle() * 180.0 / M_PI);
+    }
+    std::sort(steps.begin(), steps.end());
+    return steps;
+  };
+  const std::vector<double> look = yaw_steps(*FindPreset("handheld-look-around"), 5);
+  Preset calm = *FindPreset("handheld-look-around");
+  calm.look_arounds_per_minute = 0.0;
+  const std::vector<double> walk = yaw_steps(calm, 5);
+  std::printf("2 Hz steps, deg: look-around median %.1f p90 %.1f max %.1f; calm max %.1f\n",
+              look[look.size() / 2], look[look.size() * 9 / 10], look.back(), walk.back());
+  EXPECT_GT(look.back(), 40.0);   // a swing's fastest half second: up to 60 deg
+  EXPECT_LT(look.back(), 61.0);
+  EXPECT_GT(look[look.size() * 9 / 10], 10.0);
+  EXPECT_LT(walk.back(), 0.5 * look.back());
 }
 
 TEST(Presets, EveryPresetStaysInsideItsSceneAndEndsWhereItShould) {

@@ -87,6 +87,10 @@ CarrierParams ToParams(const HandheldProfile& p) {
   c.shake_hz_max = p.shake_hz_max;
   c.vibration = p.vibration;
   c.sensor_height = p.sensor_height;
+  c.look_arounds_per_minute = p.look_arounds_per_minute;
+  c.look_around_deg_min = p.look_around_deg_min;
+  c.look_around_deg_max = p.look_around_deg_max;
+  c.look_around_rate_deg_s = p.look_around_rate_deg_s;
   return c;
 }
 
@@ -300,6 +304,18 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
   shake_yaw_ = waves(3, shake, params_.shake_hz_min, params_.shake_hz_max);
   vib_z_ = waves(3, params_.vibration, params_.shake_hz_min, params_.shake_hz_max);
   vib_y_ = waves(3, params_.vibration, params_.shake_hz_min, params_.shake_hz_max);
+  // Drawn last, so that every other motion of a seed stays what it was without them.
+  const int looks = static_cast<int>(std::lround(params_.look_arounds_per_minute * duration / 60.0));
+  double next = 3.0;  // after the start ramp
+  for (int i = 0; i < looks && next < duration - 3.0; ++i) {
+    const double degrees = rng.Range(params_.look_around_deg_min, params_.look_around_deg_max);
+    const double sign = rng.Uniform() < 0.5 ? -1.0 : 1.0;
+    // The raised cosine's peak rate is amplitude * pi / length.
+    const double length = degrees * kPi / params_.look_around_rate_deg_s;
+    const double gap = rng.Range(0.5, 2.0) * 60.0 / params_.look_arounds_per_minute;
+    look_arounds_.push_back({next, length, sign * degrees * kDegToRad});
+    next += length + gap;
+  }
 }
 
 double CarrierMotion::SpeedLimit(double s) const {
@@ -375,6 +391,10 @@ CarrierMotion::Body CarrierMotion::BodyAt(double t, double gait) const {
   b.roll = sum(tilt_roll_) + moving * sum(shake_roll_);
   b.pitch = sum(tilt_pitch_) + moving * sum(shake_pitch_);
   b.yaw = moving * sum(shake_yaw_);
+  for (const LookAround& look : look_arounds_) {
+    const double u = (t - look.start) / look.length;
+    if (u > 0.0 && u < 1.0) b.yaw += 0.5 * look.amplitude * (1.0 - std::cos(2.0 * kPi * u));
+  }
   b.vertical = gait * sum(vib_z_);
   b.lateral = gait * sum(vib_y_);
   if (gait_hz_ > 0.0 && gait > 0.0) {

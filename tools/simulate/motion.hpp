@@ -39,6 +39,11 @@ struct HandheldProfile {
   double shake_hz_min = 4.0, shake_hz_max = 9.0;
   double vibration = 0.0;                   // position vibration (none for a hand)
   double sensor_height = 1.4;               // above the floor
+  // Looking around: the operator swings the sensor sideways and back (a turn of the torso),
+  // yaw excursions of look_around_deg_min..max at up to look_around_rate_deg_s, at random times.
+  double look_arounds_per_minute = 0.0;
+  double look_around_deg_min = 45.0, look_around_deg_max = 100.0;
+  double look_around_rate_deg_s = 120.0;
 };
 
 // A quadruped robot at a trot: the body pitches and rolls sharply at the trot frequency.
@@ -93,6 +98,8 @@ struct CarrierParams {
   bool shake_needs_motion = false;  // shake and vibration fade out while standing
   double vibration = 0.0;
   double sensor_height = 1.2;
+  double look_arounds_per_minute = 0.0;  // see HandheldProfile
+  double look_around_deg_min = 45.0, look_around_deg_max = 100.0, look_around_rate_deg_s = 120.0;
 };
 CarrierParams ToParams(const HandheldProfile& p);
 CarrierParams ToParams(const LeggedProfile& p);
@@ -146,6 +153,11 @@ class CarrierMotion {
   // Body motion components.
   double bob_phase_ = 0.0, sway_phase_ = 0.0, yaw_phase_ = 0.0, pitch_phase_ = 0.0, roll_phase_ = 0.0;
   std::vector<Wave> tilt_roll_, tilt_pitch_, shake_roll_, shake_pitch_, shake_yaw_, vib_z_, vib_y_;
+  // Yaw out to `amplitude` and back as amplitude (1 - cos(2 pi (t - start) / length)) / 2.
+  struct LookAround {
+    double start = 0.0, length = 0.0, amplitude = 0.0;
+  };
+  std::vector<LookAround> look_arounds_;
 };
 
 }  // namespace dammloam::sim

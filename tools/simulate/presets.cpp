@@ -12,6 +12,7 @@ SimOptions Preset::Options(std::uint64_t seed) const {
   options.num_scans = scans;
   options.full_range_reflectivity = full_range_reflectivity;
   options.actors = actors;
+  options.look_arounds_per_minute = look_arounds_per_minute;
   return options;
 }
 
@@ -96,6 +97,11 @@ const std::vector<Preset>& Presets() {
         "handheld-corridor behind a person walking 2 m ahead the whole way: the view ahead "
         "moves with the walker",
         FollowMe());
+    // Large motion between scans (issue 58): every 2nd-5th scan of it is the hard case.
+    add("handheld-look-around", SceneKind::Zigzag, MotionKind::Handheld, 1000,
+        "a hand-held walk through the zigzag whose operator swings the sensor 45-100 deg sideways "
+        "and back at up to 120 deg/s, six times a minute");
+    p.back().look_arounds_per_minute = 6.0;
     return p;
   }();
   return presets;

@@ -113,6 +113,7 @@ World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOp
     profile.speed_max *= scale;
   };
   rescale(w.motion.handheld);
+  w.motion.handheld.look_arounds_per_minute = options.look_arounds_per_minute;
   rescale(w.motion.legged);
   rescale(w.motion.wheeled);
   return w;

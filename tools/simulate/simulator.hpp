@@ -29,6 +29,9 @@ struct SimOptions {
   double t0 = 1700000000.0;   // start time of scan 0, seconds
   int threads = 0;            // 1: plain loop; otherwise a TBB parallel_for over columns
   MotionKind motion = MotionKind::Constant;  // the carrier (motion.hpp)
+  // Hand-held only: how often a minute the operator swings the sensor sideways 45-100 deg and
+  // back at up to 120 deg/s (HandheldProfile::look_arounds_per_minute); 0: never.
+  double look_arounds_per_minute = 0.0;
   // > 0: a return needs enough signal: it is detected up to max_range * sqrt(reflectivity *
   // cos(incidence) / full_range_reflectivity) (Lambertian target, 1/r^2), so dark walls seen
   // at grazing angles fade long before max_range. 0: every hit up to max_range (ideal).
