@@ -66,7 +66,7 @@ TEST(TrackingHealth, NothingToCompareWithAtTheStart) {
 // The first scans of wheeled-zigzag (VLP-16, seed 1), with poses at every scan start.
 const bench::SimSequence& Zigzag() {
   static const bench::SimSequence seq = bench::RecordSequence(
-      sim::Simulator(*sim::FindPreset("wheeled-zigzag"), sim::Vlp16(), 1), 120);
+      sim::Simulator(*sim::FindPreset("wheeled-zigzag"), sim::Vlp16(), 1), 100);
   return seq;
 }
 
@@ -86,8 +86,8 @@ Scan TurnedAboutZ(Scan scan, double degrees) {
 
 TEST(TrackingHealthOnSequences, AScanTurnedBy90DegreesIsLostAndNeverMapped) {
   const bench::SimSequence& seq = Zigzag();
-  constexpr std::size_t kBad = 60;
-  std::vector<Scan> with_bad(seq.scans.begin(), seq.scans.begin() + 80);
+  constexpr std::size_t kBad = 30;
+  std::vector<Scan> with_bad(seq.scans.begin(), seq.scans.begin() + 45);
   with_bad[kBad] = TurnedAboutZ(with_bad[kBad], 90.0);
   std::vector<Scan> without(with_bad);
   without.erase(without.begin() + kBad);
@@ -111,7 +111,7 @@ TEST(TrackingHealthOnSequences, AScanTurnedBy90DegreesIsLostAndNeverMapped) {
 // swing and tracking goes on. Without the search the scan sits 25 deg off in a wrong basin.
 TEST(TrackingHealthOnSequences, ASwingOf50DegreesBetweenSparseScansIsFound) {
   const bench::SimSequence& seq = Zigzag();
-  constexpr std::size_t kEvery = 5, kSwing = 14;
+  constexpr std::size_t kEvery = 5, kSwing = 12;
   constexpr double kDegrees = 50.0;
   std::vector<Scan> scans;
   std::vector<Eigen::Isometry3d> truth;
@@ -178,8 +178,8 @@ std::vector<double> PositionErrors(const std::vector<OdometryResult>& run, const
 
 TEST(TrackingHealthOnSequences, CoveredFor2SecondsIsLostThenTrackingAgain) {
   const bench::SimSequence& seq = Zigzag();
-  std::vector<Scan> scans(seq.scans.begin(), seq.scans.begin() + 110);
-  constexpr std::size_t kCovered = 60, kUncovered = 80;
+  std::vector<Scan> scans(seq.scans.begin(), seq.scans.begin() + 75);
+  constexpr std::size_t kCovered = 35, kUncovered = 55;
   for (std::size_t i = kCovered; i < kUncovered; ++i) {
     const double t = scans[i].t_start;
     scans[i] = Scan{};
@@ -203,8 +203,9 @@ TEST(TrackingHealthOnSequences, CoveredFor2SecondsIsLostThenTrackingAgain) {
 // there and tracking resumes in it.
 TEST(TrackingHealthOnSequences, CarriedElsewhereIsLostThenTheMapStartsOver) {
   const bench::SimSequence& zigzag = Zigzag();
-  const bench::SimSequence outdoor = bench::GenerateSequence(sim::SceneKind::Outdoor, sim::Vlp16(), 60);
-  std::vector<Scan> scans(zigzag.scans.begin(), zigzag.scans.begin() + 40);
+  const bench::SimSequence outdoor = bench::GenerateSequence(sim::SceneKind::Outdoor, sim::Vlp16(), 45);
+  constexpr std::size_t kAway = 25;
+  std::vector<Scan> scans(zigzag.scans.begin(), zigzag.scans.begin() + kAway);
   for (std::size_t i = 20; i < outdoor.scans.size(); ++i) {
     scans.push_back(outdoor.scans[i]);
     scans.back().t_start = scans[scans.size() - 2].t_start + 0.1;
@@ -212,18 +213,20 @@ TEST(TrackingHealthOnSequences, CarriedElsewhereIsLostThenTheMapStartsOver) {
   const auto run = RunScans(scans, zigzag.model);
   const int limit = TrackingHealthConfig{}.restart_after_lost_scans;
   for (int k = 0; k + 1 < limit; ++k) {
-    EXPECT_FALSE(Registered(run[40 + k].status)) << 40 + k;  // lost, or no pairs at all
-    EXPECT_EQ(run[40 + k].tracking, Tracking::kLost) << 40 + k;
+    EXPECT_FALSE(Registered(run[kAway + k].status)) << kAway + k;  // lost, or no pairs at all
+    EXPECT_EQ(run[kAway + k].tracking, Tracking::kLost) << kAway + k;
   }
-  const std::size_t restart = 40 + static_cast<std::size_t>(limit) - 1;
+  const std::size_t restart = kAway + static_cast<std::size_t>(limit) - 1;
   EXPECT_EQ(run[restart].status, OdometryStatus::kRestarted);
   std::size_t tracked_after = 0;
   for (std::size_t i = restart + 1; i < run.size(); ++i) {
     tracked_after += run[i].tracking == Tracking::kTracking;
     // The outdoor drive's own steps are followed in the new map.
-    const Eigen::Isometry3d truth = outdoor.ground_truth[i - 40 + 19].T.inverse() * outdoor.ground_truth[i - 40 + 20].T;
+    const Eigen::Isometry3d truth = outdoor.ground_truth[i - kAway + 19].T.inverse() * outdoor.ground_truth[i - kAway + 20].T;
     const Eigen::Isometry3d step = run[i - 1].T_world_sensor.inverse() * run[i].T_world_sensor;
-    EXPECT_LT((truth.inverse() * step).translation().norm(), 0.05) << i;
+    // The first step starts from rest in a one-scan map while the sensor drives on (as a
+    // fresh start does): within the tracked-step bound; the rest within 5 cm.
+    EXPECT_LT((truth.inverse() * step).translation().norm(), i == restart + 1 ? 0.1 : 0.05) << i;
   }
   EXPECT_GE(tracked_after, run.size() - restart - 4);
 }
