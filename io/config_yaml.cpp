@@ -102,6 +102,8 @@ void ReadMotionPrior(Section s, OdometryConfig& c) {
   s.Get("acceleration", c.motion_prior.acceleration);
   s.Get("speed_change", c.motion_prior.speed_change);
   s.Get("max_speed_sigma", c.motion_prior.max_speed_sigma);
+  s.Get("gait_time", c.motion_prior.gait_time);
+  s.Get("degenerate_gate_sigmas", c.degenerate_gate_sigmas);
   s.Get("angular_acceleration", c.max_angular_acceleration);
   s.Get("in_scan_velocity_sigma", c.in_scan_velocity_sigma);
   s.Get("in_scan_rate_sigma", c.in_scan_rate_sigma);
@@ -271,6 +273,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(mp.acceleration > 0.0, "motion_prior.acceleration", "must be > 0");
   Require(mp.speed_change > 0.0, "motion_prior.speed_change", "must be > 0");
   Require(mp.max_speed_sigma > 0.0, "motion_prior.max_speed_sigma", "must be > 0");
+  Require(mp.gait_time > 0.0, "motion_prior.gait_time", "must be > 0");
+  Require(c.degenerate_gate_sigmas >= 0.0, "motion_prior.degenerate_gate_sigmas", "must be >= 0");
   Require(c.max_angular_acceleration > 0.0, "motion_prior.angular_acceleration", "must be > 0");
   Require(c.in_scan_velocity_sigma >= 0.0, "motion_prior.in_scan_velocity_sigma", "must be >= 0");
   Require(c.in_scan_rate_sigma >= 0.0, "motion_prior.in_scan_rate_sigma", "must be >= 0");

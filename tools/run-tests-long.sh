@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # What does not fit the test command's half hour (README): the release and sanitizer suites of
-# tools/run-tests.sh, the twelve long drives that it runs in release only (here under ASan+UBSan
+# tools/run-tests.sh, the thirteen long drives that it runs in release only (here under ASan+UBSan
 # too), longer fuzzing of every parser (FUZZ_SECONDS per target, default 600, two targets at a
 # time) and the full soak (dammloam-soak: 10,000 VLP-16 scans at 20 Hz through dammloamd, the
 # publisher SIGKILLed and restarted, malformed samples, save_map every 1000 scans, RSS growth

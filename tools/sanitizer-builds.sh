@@ -28,7 +28,7 @@ configure_ninja() {  # configure_ninja BUILD_DIR CMAKE_ARGS...
   cmake -S . -B "$dir" -G Ninja "-DCMAKE_UNITY_BUILD=${DAMMLOAM_UNITY_BUILD:-ON}" "$@" >/dev/null
 }
 
-# Twelve long drives run in the test command's release stage only, and under ASan+UBSan in
+# Thirteen long drives run in the test command's release stage only, and under ASan+UBSan in
 # tools/run-tests-long.sh: under ASan+UBSan they take 27-440 s each (up to 25x release), and every
 # function they call is also run under ASan by the shorter drives of the same suites (corridor
 # axis, start while moving, the corridor-return and repetitive-corridor loop closures), by the
@@ -37,8 +37,9 @@ configure_ninja() {  # configure_ninja BUILD_DIR CMAKE_ARGS...
 # vectors); the moving labels' 150-scan agreement with the simulator's truth by the 40-scan
 # moving-class drive and the moving-points unit tests. The zigzag and outdoor drives and the
 # outdoor loop closure (40, 27 and 57 s under ASan) joined them when the test command passed 30
-# minutes: the corridor drives and the corridor-return loop run the same code.
-ASAN_LONG_DRIVES='OdometryIntegration\.(MapSizeIsBoundedOnALongDrive|LongSparseCorridorDoesNotCollapseToStandstill|InterpolatedStartPosesFollowAHandHeldWalk|TheCorrespondenceGateFollowsTheSceneSize|PoseCovarianceGrowsAlongTheWeakAxisWhileItIsWeak|ZigzagCorridorIsTracked|OutdoorLoopIsTracked)|LoopClosure\.(LapsOverMappedGroundKeepPosesButNotClouds|OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops)|Relocalization\.TwentyRandomPosesInASavedMap|BenchStream\.ModesSeeTheSameScansOfAPresetPrefix|MovingClass\.LabelsAgreeWithTheSimulatorsTruth'
+# minutes: the corridor drives and the corridor-return loop run the same code. The 2 Hz corridor
+# (140 registrations at 2 Hz) runs the same search and hold as the 2 Hz swing test.
+ASAN_LONG_DRIVES='OdometryIntegration\.(MapSizeIsBoundedOnALongDrive|LongSparseCorridorDoesNotCollapseToStandstill|InterpolatedStartPosesFollowAHandHeldWalk|TheCorrespondenceGateFollowsTheSceneSize|PoseCovarianceGrowsAlongTheWeakAxisWhileItIsWeak|ZigzagCorridorIsTracked|OutdoorLoopIsTracked)|LoopClosure\.(LapsOverMappedGroundKeepPosesButNotClouds|OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops)|Relocalization\.TwentyRandomPosesInASavedMap|BenchStream\.ModesSeeTheSameScansOfAPresetPrefix|MovingClass\.LabelsAgreeWithTheSimulatorsTruth|TrackingHealthOnSequences\.SparseCorridorScansKeepUpWithTheWalk'
 
 configure_clang() {  # configure_clang BUILD_DIR CMAKE_ARGS...
   local dir=$1

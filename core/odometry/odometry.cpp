@@ -291,6 +291,9 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
     const TranslationFilter filter_before = translation_filter_;
     RegistrationResult reg = RegisterFrame(frame, dt);
     result.tracking = JudgeFit(frame, reg, result);
+    if (frame.held_at_prediction && result.tracking == Tracking::kTracking) {
+      result.tracking = Tracking::kDegraded;
+    }
     if (result.status == OdometryStatus::kTimeGap) reg = AcrossTheGap(frame, dt, reg, result);
     const bool poor_fit = result.tracking == Tracking::kLost || health_.FewPairs(result.paired_share) ||
                           result.turn_innovation_deg > config_.health.search_after_turn_deg;
@@ -403,7 +406,8 @@ std::size_t Odometry::RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor) {
 RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   frame.T_pred = T_world_last_ * ExpSE3(velocity_ * dt);
   frame.T_guess = frame.T_pred;
-  RegistrationResult reg = RegisterSource(frame, Prior(dt, motion_model_holds_));
+  const MotionPrior prior = Prior(dt, motion_model_holds_);
+  RegistrationResult reg = RegisterSource(frame, prior);
   if (frame.raw && reg.enough_correspondences &&
       Deviation(frame.T_pred, reg.T_world_sensor) > config_.motion_model_max_deviation) {
     const std::size_t first_lookups = reg.searched_points;
@@ -411,7 +415,34 @@ RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
     reg.searched_points += first_lookups;  // the scan's work counts both registrations
   }
   first_scan_raw_.reset();
+  if (!Consecutive(dt)) frame.held_at_prediction = HoldAliasedAxis(frame, prior, reg);
   return reg;
+}
+
+// Between sparse scans, along a degenerate direction the scan hardly measures the position: a
+// registration that went much farther along it than the prediction's uncertainty allows
+// followed a look-alike feature a stride away (a door recess, a lamp), not the carrier. The
+// prediction stands there. Not at the sensor's rate: there the registration starts within
+// centimetres, and its move along a weak axis is what the recesses measured (held there, the
+// hand-held corridor seed 1 drifted to 2.0 m APE from 0.017 m).
+bool Odometry::HoldAliasedAxis(const Frame& frame, const MotionPrior& prior,
+                               RegistrationResult& reg) const {
+  const double gate = config_.degenerate_gate_sigmas;
+  if (gate <= 0.0 || !reg.enough_correspondences || prior.translation_information.isZero()) {
+    return false;
+  }
+  const Eigen::Matrix3d covariance = prior.translation_information.inverse();
+  const Eigen::Vector3d step = reg.T_world_sensor.translation() - frame.T_pred.translation();
+  bool held = false;
+  for (Eigen::Index i = 0; i < 3; ++i) {
+    if (!reg.degeneracy.degenerate[static_cast<std::size_t>(i)]) continue;
+    const Eigen::Vector3d u = reg.degeneracy.eigenvectors.col(i);
+    const double along = u.dot(step);
+    if (std::abs(along) <= gate * std::sqrt(u.dot(covariance * u))) continue;
+    reg.T_world_sensor.translation() -= along * u;
+    held = true;
+  }
+  return held;
 }
 
 RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrior& prior,
@@ -521,6 +552,24 @@ RegistrationResult Odometry::WideningFrom(Frame& frame, const Eigen::Isometry3d&
   return reg;
 }
 
+Odometry::Attempt Odometry::AttemptFrom(Frame& frame, const Eigen::Isometry3d& guess,
+                                         std::size_t& lookups) {
+  Attempt attempt;
+  attempt.reg = WideningFrom(frame, guess, lookups);
+  attempt.tracking = JudgeFit(frame, attempt.reg, attempt.judged);
+  return attempt;
+}
+
+// A searched pose is never called tracking: it was not where the motion model said.
+RegistrationResult Odometry::Adopt(Attempt best, std::size_t lookups, OdometryResult& result) {
+  best.reg.searched_points = lookups;
+  result.tracking = best.tracking == Tracking::kTracking ? Tracking::kDegraded : best.tracking;
+  result.paired_share = best.judged.paired_share;
+  result.innovation = best.judged.innovation;
+  result.turn_innovation_deg = best.judged.turn_innovation_deg;
+  return best.reg;
+}
+
 // A registration that lost its fit, or paired far fewer points than recent scans did, may have
 // started outside the right basin: a fast turn (a hand-held sensor swung sideways, a U-turn
 // between sparse scans) leaves the prediction tens of degrees off, a jolt leaves it far.
@@ -531,70 +580,48 @@ RegistrationResult Odometry::WideningFrom(Frame& frame, const Eigen::Isometry3d&
 RegistrationResult Odometry::Reacquire(Frame& frame, double dt, const RegistrationResult& first,
                                        OdometryResult& result) {
   std::size_t lookups = first.searched_points;
-  std::optional<RegistrationResult> best;
-  OdometryResult best_judged;
-  best_judged.paired_share = result.tracking == Tracking::kLost ? -1.0 : result.paired_share;
-  Tracking best_tracking = Tracking::kLost;
+  std::optional<Attempt> best;
+  const double first_share = result.tracking == Tracking::kLost ? -1.0 : result.paired_share;
   const double reach = std::min(90.0, config_.health.max_turn_rate_deg_s * dt);
   for (double degrees : {0.0, 20.0, -20.0, 40.0, -40.0, 60.0, -60.0, 90.0, -90.0}) {
     if (std::abs(degrees) > reach + 1e-9) continue;
     Eigen::Isometry3d guess = frame.T_pred;
     guess.linear() = Eigen::AngleAxisd(degrees * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * guess.linear();
-    RegistrationResult reg = WideningFrom(frame, guess, lookups);
-    OdometryResult judged;
-    const Tracking tracking = JudgeFit(frame, reg, judged);
-    if (tracking == Tracking::kLost) continue;
-    if (!best || judged.paired_share > best_judged.paired_share) {
-      best = reg;
-      best_judged = judged;
-      best_tracking = tracking;
-    }
+    Attempt attempt = AttemptFrom(frame, guess, lookups);
+    if (attempt.tracking == Tracking::kLost) continue;
+    const double best_share = best ? best->judged.paired_share : first_share;
+    if (attempt.judged.paired_share > best_share) best = std::move(attempt);
   }
   if (!best) {
     RegistrationResult kept = first;
     kept.searched_points = lookups;
     return kept;
   }
-  best->searched_points = lookups;
-  result.tracking = best_tracking == Tracking::kTracking ? Tracking::kDegraded : best_tracking;
-  result.paired_share = best_judged.paired_share;
-  result.innovation = best_judged.innovation;
-  result.turn_innovation_deg = best_judged.turn_innovation_deg;
   translation_filter_.Reset();  // the velocity it predicted with was wrong
-  return *best;
+  return Adopt(std::move(*best), lookups, result);
 }
 
 // After a gap (the sensor covered, a driver restarted) the carrier may have stood or driven
 // on: both are tried, each from a wide gate narrowing to the usual, and the better fit is
-// kept (more of the scan paired; the registration from standstill on a tie).
+// kept (more of the scan paired; the registration from standstill on a tie). The winner's
+// start is the prediction it is judged against.
 RegistrationResult Odometry::AcrossTheGap(Frame& frame, double dt, const RegistrationResult& standing,
                                           OdometryResult& result) {
   if (velocity_before_gap_.isZero()) return standing;
   const Eigen::Isometry3d T_standing = frame.T_pred;
   std::size_t lookups = standing.searched_points;
-  RegistrationResult best = WideningFrom(frame, T_standing, lookups);
-  OdometryResult best_judged;
-  Tracking best_tracking = JudgeFit(frame, best, best_judged);
+  Attempt best = AttemptFrom(frame, T_standing, lookups);
   const Eigen::Isometry3d T_driving = T_world_last_ * ExpSE3(velocity_before_gap_ * dt);
-  RegistrationResult driving = WideningFrom(frame, T_driving, lookups);
   frame.T_pred = T_driving;
-  OdometryResult driving_judged;
-  const Tracking driving_tracking = JudgeFit(frame, driving, driving_judged);
-  if (driving.enough_correspondences &&
-      (!best.enough_correspondences || driving_judged.paired_share > best_judged.paired_share)) {
-    best = driving;
-    best_judged = driving_judged;
-    best_tracking = driving_tracking;
-  } else {
-    frame.T_pred = T_standing;
-  }
+  Attempt driving = AttemptFrom(frame, T_driving, lookups);
+  const bool drove = driving.reg.enough_correspondences &&
+                     (!best.reg.enough_correspondences ||
+                      driving.judged.paired_share > best.judged.paired_share);
+  if (drove) best = std::move(driving);
+  frame.T_pred = drove ? T_driving : T_standing;
   frame.T_guess = frame.T_pred;
-  if (!best.enough_correspondences) return standing;
-  best.searched_points = lookups;
-  result.tracking = best_tracking == Tracking::kTracking ? Tracking::kDegraded : best_tracking;
-  result.paired_share = best_judged.paired_share;
-  result.innovation = best_judged.innovation;
-  return best;
+  if (!best.reg.enough_correspondences) return standing;
+  return Adopt(std::move(best), lookups, result);
 }
 
 bool Odometry::StartOverAfterLoss() {

@@ -63,6 +63,7 @@ class Odometry {
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();   // constant-velocity prediction
     Eigen::Isometry3d T_guess = Eigen::Isometry3d::Identity();  // where registration started
     std::vector<std::uint8_t> moving;    // per point of scan; empty: nothing judged moving
+    bool held_at_prediction = false;     // along a degenerate direction (HoldAliasedAxis)
   };
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
   SourcePoints SelectSource(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving);
@@ -94,8 +95,17 @@ class Odometry {
   RegistrationResult RegisterFrame(Frame& frame, double dt);
   RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior,
                                     double gate_widening = 1.0);
+  bool HoldAliasedAxis(const Frame& frame, const MotionPrior& prior, RegistrationResult& reg) const;
   Tracking JudgeFit(const Frame& frame, const RegistrationResult& reg, OdometryResult& result) const;
   RegistrationResult WideningFrom(Frame& frame, const Eigen::Isometry3d& guess, std::size_t& lookups);
+  // A registration tried from one guess, judged as JudgeFit judges the first one.
+  struct Attempt {
+    RegistrationResult reg;
+    OdometryResult judged;
+    Tracking tracking = Tracking::kLost;
+  };
+  Attempt AttemptFrom(Frame& frame, const Eigen::Isometry3d& guess, std::size_t& lookups);
+  static RegistrationResult Adopt(Attempt best, std::size_t lookups, OdometryResult& result);
   RegistrationResult Reacquire(Frame& frame, double dt, const RegistrationResult& first,
                                OdometryResult& result);
   RegistrationResult AcrossTheGap(Frame& frame, double dt, const RegistrationResult& standing,

@@ -24,6 +24,11 @@ struct OdometryConfig {
   MovingPointsConfig moving;
   int remove_moved_away_every = 5;  // scans between two passes of that removal
   double max_angular_acceleration = 5.0;  // rad/s^2: orientation prior sigma = this * dt^2
+  // Between sparse scans (not consecutive at the sensor's rate), along a degenerate direction
+  // a registration that lands farther from the prediction than this many of the prior's
+  // sigmas keeps the predicted position there (the scan is then degraded); 0: never. Full
+  // mode only.
+  double degenerate_gate_sigmas = 3.0;
   // In-scan motion. The deskew velocity is one scan old: a hand's 4-9 Hz shake turns the
   // sensor at up to ~0.3 rad/s and reverses within a scan, a trot pitches at 2.5-3 Hz, a
   // walker's bob changes the vertical speed by ~0.4 m/s per scan; the deskew then bends walls

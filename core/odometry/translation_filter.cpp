@@ -1,5 +1,7 @@
 #include "core/odometry/translation_filter.hpp"
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -16,7 +18,8 @@ void TranslationFilter::Reset() {
 Eigen::Matrix3d TranslationFilter::Predict(double dt) {
   Matrix6 F = Matrix6::Identity();
   F.topRightCorner<3, 3>() = dt * Eigen::Matrix3d::Identity();
-  const double position_sigma = config_.acceleration * dt * dt;
+  const double gait_dt = std::min(dt, config_.gait_time);
+  const double position_sigma = config_.acceleration * gait_dt * gait_dt;
   const double speed_sigma = config_.speed_change * dt;
   Matrix6 Q = Matrix6::Zero();
   Q.topLeftCorner<3, 3>().diagonal().setConstant(position_sigma * position_sigma);

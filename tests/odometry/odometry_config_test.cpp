@@ -86,6 +86,8 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(registration.covariance_regularisation);
   DAMMLOAM_EXPECT_SAME(motion_prior.acceleration);
   DAMMLOAM_EXPECT_SAME(motion_prior.speed_change);
+  DAMMLOAM_EXPECT_SAME(motion_prior.gait_time);
+  DAMMLOAM_EXPECT_SAME(degenerate_gate_sigmas);
   DAMMLOAM_EXPECT_SAME(motion_prior.max_speed_sigma);
   DAMMLOAM_EXPECT_SAME(max_angular_acceleration);
   DAMMLOAM_EXPECT_SAME(in_scan_velocity_sigma);
