@@ -1,0 +1,59 @@
+#include "io/bag/mcap_bag.hpp"
+
+#include <algorithm>
+
+#include "io/io_error.hpp"
+
+namespace dammloam::io {
+
+McapBag::McapBag(const std::vector<std::filesystem::path>& files, const McapReadOptions& options)
+    : files_(files), options_(options) {
+  for (const auto& file : files_) {
+    const McapReader reader(file, options_);
+    for (const auto& [id, channel] : reader.channels()) {
+      const auto schema = reader.schemas().find(channel.schema_id);
+      const std::string type = schema == reader.schemas().end() ? "" : schema->second.name;
+      auto it = std::find_if(topics_.begin(), topics_.end(),
+                             [&](const BagTopic& t) { return t.name == channel.topic; });
+      if (it == topics_.end()) {
+        topics_.push_back({channel.topic, type, channel.message_encoding, std::uint64_t{0}});
+        it = topics_.end() - 1;
+      } else if (it->type != type) {
+        throw IoError(file.string() + ": topic " + channel.topic + " is recorded as both " +
+                      it->type + " and " + type);
+      }
+      const auto count = reader.MessageCount(id);
+      if (count && it->message_count) {
+        *it->message_count += *count;
+      } else {
+        it->message_count.reset();
+      }
+    }
+  }
+}
+
+void McapBag::Select(const std::string& topic) {
+  topic_ = topic;
+  file_index_ = 0;
+  reader_.reset();
+}
+
+bool McapBag::Next(BagMessage& out) {
+  while (file_index_ < files_.size()) {
+    if (!reader_) reader_ = std::make_unique<McapReader>(files_[file_index_], options_);
+    while (reader_->Next(message_)) {
+      if (reader_->channels().at(message_.channel_id).topic != topic_) continue;
+      out.log_time = message_.log_time;
+      out.data = message_.data;
+      out.size = message_.size;
+      out.data_offset = message_.data_offset;
+      out.where = message_.where;
+      return true;
+    }
+    reader_.reset();
+    ++file_index_;
+  }
+  return false;
+}
+
+}  // namespace dammloam::io
