@@ -18,6 +18,21 @@ T Load(const std::uint8_t* p) {
   return value;
 }
 
+// Inlined into the per-point loop (a call per field and point was a fifth of reading a bag).
+inline double ReadValue(const std::uint8_t* p, std::uint8_t datatype) {
+  switch (datatype) {
+    case point_field::kInt8: return Load<std::int8_t>(p);
+    case point_field::kUint8: return Load<std::uint8_t>(p);
+    case point_field::kInt16: return Load<std::int16_t>(p);
+    case point_field::kUint16: return Load<std::uint16_t>(p);
+    case point_field::kInt32: return Load<std::int32_t>(p);
+    case point_field::kUint32: return Load<std::uint32_t>(p);
+    case point_field::kFloat32: return Load<float>(p);
+    case point_field::kFloat64: return Load<double>(p);
+    default: return 0.0;
+  }
+}
+
 // The first of `names` the cloud has, or null.
 const CloudFieldView* FindFirst(const CloudInput& cloud,
                                 std::initializer_list<std::string_view> names) {
@@ -113,17 +128,7 @@ std::string PointFieldTypeName(std::uint8_t datatype) {
 }
 
 double ReadPointFieldValue(const std::uint8_t* p, std::uint8_t datatype) {
-  switch (datatype) {
-    case point_field::kInt8: return Load<std::int8_t>(p);
-    case point_field::kUint8: return Load<std::uint8_t>(p);
-    case point_field::kInt16: return Load<std::int16_t>(p);
-    case point_field::kUint16: return Load<std::uint16_t>(p);
-    case point_field::kInt32: return Load<std::int32_t>(p);
-    case point_field::kUint32: return Load<std::uint32_t>(p);
-    case point_field::kFloat32: return Load<float>(p);
-    case point_field::kFloat64: return Load<double>(p);
-    default: return 0.0;
-  }
+  return ReadValue(p, datatype);
 }
 
 double StampSeconds(const CloudStamp& stamp) {
@@ -244,12 +249,15 @@ CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits) 
   scan.t_start = cloud.stamp.sec + cloud.stamp.nanosec * 1e-9;
   const std::uint64_t num_points = std::uint64_t{cloud.height} * cloud.width;
   scan.points.reserve(num_points);
+  if (ft.field != nullptr) scan.times.reserve(num_points);
+  if (fr != nullptr) scan.rings.reserve(num_points);
+  if (fi != nullptr) scan.intensities.reserve(num_points);
   for (std::uint64_t index = 0; index < num_points; ++index) {
     const std::uint8_t* p = cloud.data + (index / cloud.width) * cloud.row_step +
                             (index % cloud.width) * cloud.point_step;
-    const Eigen::Vector3d xyz(ReadPointFieldValue(p + fx->offset, fx->datatype),
-                              ReadPointFieldValue(p + fy->offset, fy->datatype),
-                              ReadPointFieldValue(p + fz->offset, fz->datatype));
+    const Eigen::Vector3d xyz(ReadValue(p + fx->offset, fx->datatype),
+                              ReadValue(p + fy->offset, fy->datatype),
+                              ReadValue(p + fz->offset, fz->datatype));
     if (!xyz.allFinite()) {
       if (cloud.is_dense) {
         result.code = "non_finite";
@@ -265,7 +273,7 @@ CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits) 
       continue;
     }
     if (ft.field != nullptr) {
-      const double t = ReadPointFieldValue(p + ft.field->offset, ft.field->datatype) * ft.scale;
+      const double t = ReadValue(p + ft.field->offset, ft.field->datatype) * ft.scale;
       if (!std::isfinite(t) || t < min_time || t > limits.max_point_time) {
         result.code = "point_time";
         result.error = CloudPointName(index, cloud.width) + " has time " + std::to_string(t) +
@@ -276,7 +284,7 @@ CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits) 
       scan.times.push_back(static_cast<float>(t));
     }
     if (fr != nullptr) {
-      const double ring = ReadPointFieldValue(p + fr->offset, fr->datatype);
+      const double ring = ReadValue(p + fr->offset, fr->datatype);
       if (!(ring >= 0.0 && ring < limits.max_ring)) {
         result.code = "ring";
         result.error = CloudPointName(index, cloud.width) + " has ring " + std::to_string(ring) +
@@ -286,7 +294,7 @@ CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits) 
       scan.rings.push_back(static_cast<std::int16_t>(ring));
     }
     if (fi != nullptr) {
-      const double intensity = ReadPointFieldValue(p + fi->offset, fi->datatype);
+      const double intensity = ReadValue(p + fi->offset, fi->datatype);
       scan.intensities.push_back(std::isfinite(intensity) ? static_cast<float>(intensity) : 0.f);
     }
     scan.points.push_back(xyz);

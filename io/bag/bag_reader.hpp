@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "io/io_error.hpp"
+
 namespace dammloam::io {
 
 struct BagTopic {

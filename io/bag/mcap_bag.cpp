@@ -10,7 +10,8 @@ McapBag::McapBag(const std::vector<std::filesystem::path>& files, const McapRead
     : files_(files), options_(options) {
   for (const auto& file : files_) {
     const McapReader reader(file, options_);
-    for (const auto& [id, channel] : reader.channels()) {
+    for (const auto& entry : reader.channels()) {
+      const McapChannel& channel = entry.second;  // a named reference: clang 14 cannot capture bindings
       const auto schema = reader.schemas().find(channel.schema_id);
       const std::string type = schema == reader.schemas().end() ? "" : schema->second.name;
       auto it = std::find_if(topics_.begin(), topics_.end(),
@@ -22,7 +23,7 @@ McapBag::McapBag(const std::vector<std::filesystem::path>& files, const McapRead
         throw IoError(file.string() + ": topic " + channel.topic + " is recorded as both " +
                       it->type + " and " + type);
       }
-      const auto count = reader.MessageCount(id);
+      const auto count = reader.MessageCount(entry.first);
       if (count && it->message_count) {
         *it->message_count += *count;
       } else {

@@ -87,6 +87,7 @@ void McapReader::ReadSummary() {
   const std::uint64_t footer_offset = file_size_ - sizeof(tail);
   ReadExactly(tail, sizeof(tail), footer_offset, file_.string() + ": footer");
   if (std::memcmp(tail + kFooterRecord, mcap::kMagic, 8) != 0) return;  // truncated: scanned
+  closed_ = true;
   if (tail[0] != mcap::kFooter || LoadU64(tail + 1) != mcap::kFooterContent) {
     throw IoError(RecordName(tail[0], footer_offset) +
                   ": expected the Footer record before the closing magic");
@@ -218,6 +219,11 @@ bool McapReader::NextRecord() {
         throw IoError(where + ": data section CRC is " + std::to_string(data_crc_) +
                       ", the record says " + std::to_string(crc) + " (corrupt data section)");
       }
+      if (!closed_) {
+        throw IoError(file_.string() + ": ends at byte " + std::to_string(file_size_) +
+                      " without the footer and closing magic after the DataEnd record at byte " +
+                      std::to_string(record_offset_) + " (truncated)");
+      }
       data_ended_ = true;
       return false;
     }
@@ -244,9 +250,16 @@ void McapReader::OpenChunk() {
            std::to_string(options_.max_record_bytes) + " bytes (corrupt?)");
   }
   const std::uint8_t* records = c.Bytes(records_size, "records");
-  Decompress(compression, records, records_size, uncompressed_size, chunk_, where);
+  if (compression.empty() && records_size == uncompressed_size) {
+    chunk_data_ = records;  // stored: read in place, no copy
+    chunk_size_ = static_cast<std::size_t>(records_size);
+  } else {
+    Decompress(compression, records, records_size, uncompressed_size, chunk_, where);
+    chunk_data_ = chunk_.data();
+    chunk_size_ = chunk_.size();
+  }
   if (crc != 0) {
-    const std::uint32_t actual = Crc32(0, chunk_.data(), chunk_.size());
+    const std::uint32_t actual = Crc32(0, chunk_data_, chunk_size_);
     if (actual != crc) {
       throw IoError(where + ": CRC of the decompressed records is " + std::to_string(actual) +
                     ", the chunk says " + std::to_string(crc) + " (corrupt chunk)");
@@ -259,8 +272,8 @@ void McapReader::OpenChunk() {
 
 bool McapReader::NextInChunk(McapMessage& out) {
   const std::string chunk_name = RecordName(mcap::kChunk, chunk_offset_);
-  while (chunk_pos_ < chunk_.size()) {
-    ByteCursor c(chunk_.data(), chunk_.size(), 0, chunk_name + " (decompressed)");
+  while (chunk_pos_ < chunk_size_) {
+    ByteCursor c(chunk_data_, chunk_size_, 0, chunk_name + " (decompressed)");
     c.SetPosition(chunk_pos_, "record");
     const std::uint64_t offset = chunk_pos_;
     const auto opcode = c.Read<std::uint8_t>("record opcode");
@@ -271,11 +284,11 @@ bool McapReader::NextInChunk(McapMessage& out) {
                               " (decompressed)";
     if (length > c.remaining()) {
       throw IoError(where + ": length " + std::to_string(length) + " runs past the chunk's " +
-                    std::to_string(chunk_.size()) + " bytes");
+                    std::to_string(chunk_size_) + " bytes");
     }
     const std::uint64_t content = c.position();
     chunk_pos_ = static_cast<std::size_t>(content + length);
-    const std::uint8_t* data = chunk_.data() + content;
+    const std::uint8_t* data = chunk_data_ + content;
     if (opcode == mcap::kSchema) {
       AddSchema(data, length, content, where);
     } else if (opcode == mcap::kChannel) {

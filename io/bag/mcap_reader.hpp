@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "io/io_error.hpp"
+
 namespace dammloam::io {
 
 struct McapSchema {
@@ -88,6 +90,7 @@ class McapReader {
   std::uint64_t pos_ = 0;         // next record in the data section
   bool data_ended_ = false;
   bool have_statistics_ = false;
+  bool closed_ = false;  // the file ends with the closing magic
   std::uint32_t header_crc_ = 0;   // CRC of the magic and the Header record
   std::uint32_t data_crc_ = 0;     // running CRC of the data section so far
 
@@ -96,6 +99,8 @@ class McapReader {
   std::vector<std::uint8_t> record_;
 
   std::vector<std::uint8_t> chunk_;  // decompressed records of the current chunk
+  const std::uint8_t* chunk_data_ = nullptr;  // the records: in chunk_, or in record_ if stored
+  std::size_t chunk_size_ = 0;
   std::size_t chunk_pos_ = 0;
   std::uint64_t chunk_offset_ = 0;
   bool in_chunk_ = false;

@@ -10,6 +10,8 @@
 //   extra                    also a std_msgs/String topic and a second PointCloud2 topic
 //   stamp                    start | end   (header stamp at the first or the last point)
 //   rosbag2                  write <dir of out>/metadata.yaml (storage mcap) too
+//   payload                  cloud (default) | string: /points carries std_msgs/String bytes
+//                            under the PointCloud2 schema (a wrong-schema recording)
 "use strict";
 const fs = require("fs");
 const path = require("path");
@@ -116,7 +118,7 @@ class FileWritable {
 
 async function main() {
   const opts = Object.assign({ layout: "xyzitr", compression: "zstd", endian: "little", chunked: true,
-                               summary: true, topic: "/points", extra: false, stamp: "start" },
+                               summary: true, topic: "/points", extra: false, stamp: "start", payload: "cloud" },
                              JSON.parse(process.argv[2]));
   await zstd.isLoaded;
   const scans = readSequence(opts.sequence);
@@ -146,7 +148,12 @@ async function main() {
   }
   let sequence = 0;
   for (const scan of scans) {
-    const { data, stamp } = pointCloud2(opts, scan);
+    let { data, stamp } = pointCloud2(opts, scan);
+    if (opts.payload === "string") {
+      const w = new CdrWriter(true);
+      w.string(`not a cloud ${sequence}`);
+      data = w.data();
+    }
     const logTime = scan.stampNs + 50000000n;
     if (opts.extra) {
       const w = new CdrWriter(true);
