@@ -43,6 +43,12 @@ int main(int argc, char** argv) {
                                 "write every loop candidate as a JSON line (accepted or not)");
   auto* save = app.add_option("--save-map", o.save_map,
                               "save keyframes, descriptors and the global map to this directory");
+  app.add_option("--velodyne-model", o.velodyne_model,
+                 "bags of raw packets (velodyne_msgs/msg/VelodyneScan): vlp16, vlp32c, hdl32e, "
+                 "vls128; needs --velodyne-calibration");
+  app.add_option("--velodyne-calibration", o.velodyne_calibration,
+                 "the sensor's calibration YAML (drivers/calibration, nebula's format)")
+      ->check(CLI::ExistingFile);
   auto* mcap = app.add_option("--mcap", o.mcap,
                               "also write odometry, /tf, labelled clouds and loop closures as "
                               "ROS 2 messages into this MCAP file (Foxglove, ros2 bag play)");

@@ -2,11 +2,20 @@
 #include <algorithm>
 #include <spdlog/spdlog.h>
 
+#include "io/bag/bag_reader.hpp"
 #include "tools/odometry/runner.hpp"
+#include "tools/odometry/velodyne_bag_source.hpp"
 
 namespace dammloam::tools {
 
 std::unique_ptr<io::ScanSource> OpenSource(const RunnerOptions& o) {
+  if (!o.velodyne_model.empty() || !o.velodyne_calibration.empty()) {
+    if (o.velodyne_model.empty() || o.velodyne_calibration.empty() || !io::IsBagPath(o.sequence)) {
+      throw std::runtime_error("raw Velodyne packets need a bag and both --velodyne-model and "
+                               "--velodyne-calibration");
+    }
+    return OpenVelodyneBag(o.sequence, o.topic, o.velodyne_model, o.velodyne_calibration);
+  }
   auto source = io::OpenScanSource(o.sequence, {o.topic, o.sensor_meta});
   if (source->kind() == "sequence" && (!o.topic.empty() || !o.sensor_meta.empty())) {
     throw std::runtime_error(o.sequence.string() + ": --topic and --sensor-meta are for bags; " +
