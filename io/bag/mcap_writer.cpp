@@ -117,7 +117,7 @@ void McapWriter::Write(std::uint16_t channel_id, std::uint64_t log_time,
 void McapWriter::FlushChunk() {
   if (chunk_.empty()) return;
   const std::vector<std::uint8_t> compressed =
-      options_.compression == "zstd" ? CompressZstd(chunk_.data(), chunk_.size(), 3) : chunk_;
+      options_.compression == "zstd" ? CompressZstd(chunk_.data(), chunk_.size(), 1) : chunk_;
   ChunkIndex index{};
   index.start_time = chunk_start_;
   index.end_time = chunk_end_;

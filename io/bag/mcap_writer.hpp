@@ -9,7 +9,7 @@
 namespace dammloam::io {
 
 struct McapWriteOptions {
-  std::string compression = "zstd";    // "zstd" or "" (uncompressed chunks)
+  std::string compression = "zstd";    // "zstd" (level 1: the run, not the file, is the cost) or ""
   std::size_t chunk_bytes = 4u << 20;  // a chunk is closed once its records pass this size
   std::string profile = "ros2";
 };
