@@ -8,6 +8,7 @@
 #include "io/bag/scan_source.hpp"
 #include "tests/bag/bag_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace dammloam {
 namespace {
@@ -165,6 +166,17 @@ TEST_F(BagRead, Rosbag2WithSqliteStorageFromPython) {
   EXPECT_EQ(source->size(), std::optional<std::size_t>(4));
   EXPECT_EQ(source->model().rings, 16);
   EXPECT_EQ(source->model().columns, 100);
+}
+
+TEST_F(BagRead, Rosbag2WithZstdCompressedMessages) {
+  DAMMLOAM_REQUIRE_NODE();
+  const auto r = test::RunCommand("python3 " + (test::BagTestDir() / "write_rosbag2_sqlite.py").string() +
+                                  " " + (tmp_ / "seq").string() + " " + (tmp_ / "bag").string() +
+                                  " --zstd-messages 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_NE(test::ReadText(tmp_ / "bag" / "metadata.yaml").find("compression_mode: \"MESSAGE\""),
+            std::string::npos);
+  ExpectSameScans(ReadAll(tmp_ / "bag"));
 }
 
 TEST(GuessSensorModel, FromRingsPointsAndStamps) {

@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
-"""write_rosbag2_sqlite.py SEQUENCE_DIR BAG_DIR: writes the scans of a dammloam sequence
+"""write_rosbag2_sqlite.py SEQUENCE_DIR BAG_DIR [--zstd-messages]: writes the scans of a dammloam sequence
 directory (scans/*.bin: x y z intensity t ring as float32; times.txt) as a rosbag2 with storage
 sqlite3 (metadata.yaml + BAG_DIR/bag_0.db3, the schema rosbag2 creates), using Python's own
 sqlite3 module and a CDR serialiser written here from the ROS 2 rules, not dammloam's code.
 Topics: /points (sensor_msgs/msg/PointCloud2, fields x y z intensity t ring as dammloam
-publishes them) and /chatter (std_msgs/msg/String) in between."""
+publishes them) and /chatter (std_msgs/msg/String) in between. --zstd-messages compresses every
+message as a zstd frame (rosbag2's compression_mode MESSAGE) with node/zstd_files.cjs."""
 import os
 import sqlite3
 import struct
+import subprocess
 import sys
+import tempfile
 from decimal import Decimal
 
 
@@ -60,8 +63,21 @@ def point_cloud2(stamp_ns, floats):
     return bytes(c.out)
 
 
+def zstd_frames(blobs):
+    """Each blob as a zstd frame, compressed by node (@foxglove/wasm-zstd)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        files = []
+        for i, blob in enumerate(blobs):
+            files.append(os.path.join(tmp, str(i)))
+            open(files[-1], "wb").write(blob)
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "node", "zstd_files.cjs")
+        subprocess.run(["node", script] + files, check=True)
+        return [open(f, "rb").read() for f in files]
+
+
 def main():
     seq, bag = sys.argv[1], sys.argv[2]
+    zstd = "--zstd-messages" in sys.argv[3:]
     os.makedirs(bag, exist_ok=True)
     times = [line.strip() for line in open(os.path.join(seq, "times.txt")) if line.strip()]
     db = sqlite3.connect(os.path.join(bag, "bag_0.db3"))
@@ -79,6 +95,7 @@ def main():
         INSERT INTO topics VALUES (1, '/chatter', 'std_msgs/msg/String', 'cdr', '', '');
         INSERT INTO topics VALUES (2, '/points', 'sensor_msgs/msg/PointCloud2', 'cdr', '', '');
     """)
+    rows = []
     for i, text in enumerate(times):
         stamp_ns = int(Decimal(text) * 10**9)
         assert Decimal(stamp_ns) == Decimal(text) * 10**9, "time is not whole nanoseconds"
@@ -86,10 +103,11 @@ def main():
         floats = struct.unpack("<%df" % (len(raw) // 4), raw)
         hello = Cdr()
         hello.string("scan %d" % i)
-        db.execute("INSERT INTO messages(topic_id, timestamp, data) VALUES (1, ?, ?)",
-                   (stamp_ns + 1000, bytes(hello.out)))
-        db.execute("INSERT INTO messages(topic_id, timestamp, data) VALUES (2, ?, ?)",
-                   (stamp_ns + 50_000_000, point_cloud2(stamp_ns, floats)))
+        rows.append((1, stamp_ns + 1000, bytes(hello.out)))
+        rows.append((2, stamp_ns + 50_000_000, point_cloud2(stamp_ns, floats)))
+    if zstd:
+        rows = [(t, s, b) for (t, s, _), b in zip(rows, zstd_frames([r[2] for r in rows]))]
+    db.executemany("INSERT INTO messages(topic_id, timestamp, data) VALUES (?, ?, ?)", rows)
     db.commit()
     db.close()
     n = len(times)
@@ -115,8 +133,8 @@ def main():
         serialization_format: cdr
         offered_qos_profiles: ""
       message_count: {n}
-  compression_format: ""
-  compression_mode: ""
+  compression_format: "{"zstd" if zstd else ""}"
+  compression_mode: "{"MESSAGE" if zstd else ""}"
   relative_file_paths:
     - bag_0.db3
   files:
