@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
+#include <numbers>
 
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/bag_scans.hpp"
@@ -83,6 +85,29 @@ class BagSource : public ScanSource {
 
 }  // namespace
 
+namespace {
+
+// Columns of an unorganised cloud from its firing order: within a ring, consecutive returns are
+// one azimuth step apart (or a few, where returns are missing), so the median step is the
+// column width. Nullopt with too few steps to tell.
+std::optional<int> ColumnsFromAzimuthSteps(const Scan& scan) {
+  std::map<int, double> last_azimuth;
+  std::vector<double> steps;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double azimuth = std::atan2(scan.points[i].y(), scan.points[i].x());
+    const auto [it, first] = last_azimuth.try_emplace(scan.rings[i], azimuth);
+    if (first) continue;
+    const double step = std::abs(std::remainder(azimuth - it->second, 2.0 * std::numbers::pi));
+    it->second = azimuth;
+    if (step > 1e-6 && step < 0.2) steps.push_back(step);  // not a second return, not a gap
+  }
+  if (steps.size() < 100) return std::nullopt;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  return static_cast<int>(std::lround(2.0 * std::numbers::pi / steps[steps.size() / 2]));
+}
+
+}  // namespace
+
 SensorModel GuessSensorModel(const Scan& first, std::uint64_t cloud_points,
                              std::uint32_t cloud_height, const Scan* second) {
   SensorModel model;
@@ -95,6 +120,9 @@ SensorModel GuessSensorModel(const Scan& first, std::uint64_t cloud_points,
   const std::uint64_t points = std::max<std::uint64_t>(cloud_points, first.size());
   model.columns = static_cast<int>(std::max<std::uint64_t>(
       1, (points + static_cast<std::uint64_t>(model.rings) - 1) / static_cast<std::uint64_t>(model.rings)));
+  if (cloud_height <= 1 && first.has_rings()) {
+    if (const auto columns = ColumnsFromAzimuthSteps(first)) model.columns = *columns;
+  }
   if (second != nullptr) {
     const double period = second->t_start - first.t_start;
     if (period >= 0.02 && period <= 1.0) model.scan_period = period;

@@ -38,8 +38,9 @@ std::unique_ptr<ScanSource> OpenScanSource(const std::filesystem::path& path,
                                            const ScanSourceOptions& options = {});
 
 // A bag carries no sensor model: rings from the first cloud's height (organised clouds) or
-// largest ring + 1, columns from its points per ring, the scan period from the first two
-// stamps (0.1 s when that is implausible). Exposed for tests.
+// largest ring + 1; columns from an organised cloud's width, else from the median azimuth step
+// between consecutive returns of a ring (points per ring when there are too few); the scan
+// period from the first two stamps (0.1 s when that is implausible). Exposed for tests.
 SensorModel GuessSensorModel(const Scan& first, std::uint64_t cloud_points,
                              std::uint32_t cloud_height, const Scan* second);
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/geometry/point_class.hpp"
+#include "io/bag/scan_source.hpp"
 #include "io/tum.hpp"
 #include "tests/bag/bag_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -135,6 +136,22 @@ TEST_F(BagOdometry, PosesFromMcapAndRosbag2EqualPosesFromTheSequenceBitForBit) {
     }
     EXPECT_EQ(labelled, cloud["value"]["width"].get<int>());
   }
+}
+
+// Without --sensor-meta the model of an unorganised cloud is guessed from its rings and the
+// azimuth steps of its returns: a simulated VLP-16 turned into 900 columns.
+TEST(GuessSensorModel, ColumnsOfAnUnorganisedVlp16CloudFromItsAzimuthSteps) {
+  sim::SensorSpec sensor = sim::Vlp16();
+  sensor.columns = 900;
+  sim::SimOptions options;
+  options.num_scans = 3;
+  const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
+  const Scan first = simulator.SimulateScan(1);
+  const Scan second = simulator.SimulateScan(2);
+  const SensorModel m = io::GuessSensorModel(first, first.size(), 1, &second);
+  EXPECT_EQ(m.rings, 16);
+  EXPECT_EQ(m.columns, 900);
+  EXPECT_NEAR(m.scan_period, simulator.sensor_model().scan_period, 1e-6);
 }
 
 }  // namespace
