@@ -8,8 +8,10 @@ namespace dammloam::io {
 
 McapBag::McapBag(const std::vector<std::filesystem::path>& files, const McapReadOptions& options)
     : files_(files), options_(options) {
-  for (const auto& file : files_) {
-    const McapReader reader(file, options_);
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    const std::filesystem::path& file = files_[i];
+    auto opened = std::make_unique<McapReader>(file, options_);
+    const McapReader& reader = *opened;
     for (const auto& entry : reader.channels()) {
       const McapChannel& channel = entry.second;  // a named reference: clang 14 cannot capture bindings
       const auto schema = reader.schemas().find(channel.schema_id);
@@ -30,18 +32,27 @@ McapBag::McapBag(const std::vector<std::filesystem::path>& files, const McapRead
         it->message_count.reset();
       }
     }
+    // Kept for the first Next(): a file without summary was already read once for its channels.
+    if (i == 0) reader_ = std::move(opened);
   }
 }
 
 void McapBag::Select(const std::string& topic) {
   topic_ = topic;
   file_index_ = 0;
-  reader_.reset();
+  if (reader_ && reader_file_ == 0) {
+    reader_->Rewind();
+  } else {
+    reader_.reset();
+  }
 }
 
 bool McapBag::Next(BagMessage& out) {
   while (file_index_ < files_.size()) {
-    if (!reader_) reader_ = std::make_unique<McapReader>(files_[file_index_], options_);
+    if (!reader_) {
+      reader_ = std::make_unique<McapReader>(files_[file_index_], options_);
+      reader_file_ = file_index_;
+    }
     while (reader_->Next(message_)) {
       if (reader_->channels().at(message_.channel_id).topic != topic_) continue;
       out.log_time = message_.log_time;

@@ -24,6 +24,7 @@ class McapBag : public BagReader {
   std::string topic_;
   std::size_t file_index_ = 0;
   std::unique_ptr<McapReader> reader_;
+  std::size_t reader_file_ = 0;  // the file reader_ reads
   McapMessage message_;
 };
 
