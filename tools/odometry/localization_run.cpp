@@ -43,7 +43,11 @@ int RunLocalization(const RunnerOptions& o) {
       localized.push_back({t_start, pose->T_map_sensor});
       inlier_ratios.push_back(pose->inlier_ratio);
     }
-    if (progress) std::fprintf(stderr, "\r%zu/%zu scans, %zu localized  ", i + 1, n, localized.size());
+    if (progress && n > 0) {
+      std::fprintf(stderr, "\r%zu/%zu scans, %zu localized  ", i + 1, n, localized.size());
+    } else if (progress) {  // a source that cannot tell its length (raw packet bags)
+      std::fprintf(stderr, "\r%zu scans, %zu localized  ", i + 1, localized.size());
+    }
   }
   if (progress) std::fprintf(stderr, "\n");
   if (i == 0) throw std::runtime_error(o.sequence.string() + ": no scans");

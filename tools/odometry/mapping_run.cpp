@@ -135,7 +135,12 @@ int RunMapping(const RunnerOptions& o) {
     if (backend && Registered(result.status)) handle_loops(backend->Process());
     if (stats) stats->Write(result);
     if (progress) {
-      std::fprintf(stderr, "\r%zu/%zu scans  %.1f ms  ", i + 1, n, result.timings.total_ms);
+      // n is 0 when the source cannot tell its length (raw packet bags).
+      if (n > 0) {
+        std::fprintf(stderr, "\r%zu/%zu scans  %.1f ms  ", i + 1, n, result.timings.total_ms);
+      } else {
+        std::fprintf(stderr, "\r%zu scans  %.1f ms  ", i + 1, result.timings.total_ms);
+      }
     }
   }
   if (progress) std::fprintf(stderr, "\n");
