@@ -1,6 +1,6 @@
-// Our MCAP writer and ROS 2 serialisers against @mcap/core: a file with every message kind that
-// dammloam-odometry --mcap writes, with known values, decoded by node from the schema texts; and
-// the same file read back by our own reader.
+// Our MCAP writer (zstd chunks; stored ones in bag_odometry_test) and ROS 2 serialisers against
+// @mcap/core: a file with every message kind that dammloam-odometry --mcap writes, with known
+// values, decoded by node from the schema texts; and the same file read back by our own reader.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -36,7 +36,7 @@ TEST(BagWrite, EveryMessageKindDecodesInMcapCoreFromItsSchema) {
                                          {PointClass{}, static_cast<PointClass>(3),
                                           static_cast<PointClass>(5)}, "lidar");
   {
-    io::McapWriter writer(file, {"", 256, "ros2"});  // stored chunks, several of them
+    io::McapWriter writer(file, {"zstd", 256, "ros2"});  // several zstd chunks
     const auto channel = [&](const char* type, const std::string& schema, const char* topic) {
       return writer.AddChannel(writer.AddSchema(type, "ros2msg", schema), topic, "cdr", {});
     };

@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
   auto* mcap = app.add_option("--mcap", o.mcap,
                               "also write odometry, /tf, labelled clouds and loop closures as "
                               "ROS 2 messages into this MCAP file (Foxglove, ros2 bag play)");
+  std::string mcap_compression = "zstd";
+  app.add_option("--mcap-compression", mcap_compression, "chunks of --mcap: zstd or none")
+      ->check(CLI::IsMember({"zstd", "none"}))
+      ->needs(mcap);
   auto* load = app.add_option("--load-map", o.load_map, "map directory for --localize")
                    ->check(CLI::ExistingDirectory);
   auto* localize = app.add_flag("--localize", o.localize,
@@ -64,6 +68,7 @@ int main(int argc, char** argv) {
       ->excludes("--map");
   CLI11_PARSE(app, argc, argv);
   o.loop_closure = !no_loop_closure;
+  o.mcap_compression = mcap_compression == "none" ? "" : mcap_compression;
   // The daemon's allocator thresholds: without them glibc maps and faults in a scan's large
   // buffers afresh (~77 more page faults per scan on a VLP-16), and --stats would time another
   // process than the one a robot runs.

@@ -104,7 +104,7 @@ int RunMapping(const RunnerOptions& o) {
   }
   EventLog events(o.events);
   std::optional<McapOutput> mcap;
-  if (!o.mcap.empty()) mcap.emplace(o.mcap, source->model().scan_period);
+  if (!o.mcap.empty()) mcap.emplace(o.mcap, source->model().scan_period, o.mcap_compression);
   const auto handle_loops = [&](const std::vector<backend::LoopEvent>& found) {
     events.Write(found);
     if (mcap) mcap->AddLoops(found);

@@ -16,8 +16,9 @@ const std::map<std::string, std::string> kChannelMetadata = {{"offered_qos_profi
 
 }  // namespace
 
-McapOutput::McapOutput(const std::filesystem::path& file, double scan_period)
-    : writer_(file), scan_period_(scan_period) {
+McapOutput::McapOutput(const std::filesystem::path& file, double scan_period,
+                       const std::string& compression)
+    : writer_(file, io::McapWriteOptions{compression}), scan_period_(scan_period) {
   const auto channel = [&](const char* type, const std::string& schema, const char* topic) {
     return writer_.AddChannel(writer_.AddSchema(type, "ros2msg", schema), topic, "cdr",
                               kChannelMetadata);

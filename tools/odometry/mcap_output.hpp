@@ -17,7 +17,8 @@ namespace dammloam::tools {
 // /dammloam/loop_closures (a MarkerArray line between the keyframes of each accepted loop).
 class McapOutput {
  public:
-  McapOutput(const std::filesystem::path& file, double scan_period);
+  // compression: "zstd" or "" (uncompressed chunks).
+  McapOutput(const std::filesystem::path& file, double scan_period, const std::string& compression);
   void AddScan(const OdometryResult& result);
   void AddLoops(const std::vector<backend::LoopEvent>& events);
   void Close() { writer_.Close(); }

@@ -21,6 +21,7 @@ struct RunnerOptions {
   std::string topic;                  // bags: the PointCloud2 topic
   std::filesystem::path sensor_meta;  // bags: meta.json with the sensor model
   std::filesystem::path mcap;         // write the outputs as ROS 2 messages into this MCAP
+  std::string mcap_compression = "zstd";  // its chunks: zstd or "" (none)
   std::string velodyne_model;                 // bags of raw Velodyne packets: vlp16, ...
   std::filesystem::path velodyne_calibration;  // and the sensor's calibration YAML
   std::size_t max_scans = 0;
