@@ -23,7 +23,13 @@ PACKAGES=(
   iproute2 openssl
   # libFuzzer targets (tools/fuzz.sh): clang and its runtime (libFuzzer, ASan, UBSan).
   clang-14 libclang-rt-14-dev
+  # Recorded bags (io/bag): rosbag2 SQLite storage, MCAP chunk compression, CRC-32.
+  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
+  # The bag tests' independent MCAP writer and reader (@mcap/core, tests/bag/node).
+  nodejs
 )
+# Debian's npm; a NodeSource nodejs already ships npm and conflicts with that package.
+if ! command -v npm >/dev/null 2>&1; then PACKAGES+=(npm); fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -32,8 +38,22 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
+# The npm packages of the bag tests, as pinned by tests/bag/node/package-lock.json (into
+# tests/bag/node/node_modules, which git ignores).
+install_node_packages() {
+  local dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/bag/node"
+  # npm writes node_modules/.package-lock.json on every install: older than the lock = stale.
+  if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+     [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+    echo "install-deps: npm ci in tests/bag/node"
+    npm ci --prefix "$dir" --no-audit --no-fund
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  install_node_packages
   exit 0
 fi
 
@@ -43,3 +63,4 @@ echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+install_node_packages

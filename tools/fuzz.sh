@@ -4,7 +4,8 @@
 # folder exists, and from inline/synthetic inputs made by the project's own code always), the
 # kept crash inputs of tests/fuzz/regressions/<target>/ are replayed, then the fuzzer runs.
 #
-#   bash tools/fuzz.sh SECONDS [TARGET...]     targets: ouster velodyne pcap point_cloud map_store config
+#   bash tools/fuzz.sh SECONDS [TARGET...]     targets: ouster velodyne pcap point_cloud map_store config mcap
+#                                             pointcloud2_cdr
 #
 # Environment: FUZZ_BUILD_DIR (default build-asan, shared with tools/run-tests.sh), JOBS (build
 # jobs and targets fuzzed at once, default 1).
@@ -14,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-ALL_TARGETS=(ouster velodyne pcap point_cloud map_store config)
+ALL_TARGETS=(ouster velodyne pcap point_cloud map_store config mcap pointcloud2_cdr)
 usage() { echo "usage: bash tools/fuzz.sh SECONDS [TARGET...]   (targets: ${ALL_TARGETS[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 SECONDS_PER_TARGET=$1
@@ -53,7 +54,8 @@ echo "== fuzz: seeds from ${SHARED:-inline inputs only (no ../shared/data)}"
 max_len() {
   case $1 in
     ouster | velodyne | pcap) echo 65536 ;;
-    point_cloud) echo 8192 ;;
+    point_cloud | pointcloud2_cdr) echo 8192 ;;
+    mcap) echo 65536 ;;
     map_store | config) echo 16384 ;;
   esac
 }
@@ -74,6 +76,11 @@ write_dict() {
     config) sources=(io/config_yaml.cpp io/backend_config_yaml.cpp services/dammloamd/daemon_config.cpp)
             extra=(': ' '- ' '{' '}' '[' ']' '.nan' '.inf' '-.inf' '~' '&a ' '*a' '!!str ' '? ' '<<: '
                    '1e308' '-1' 'true' 'false' 'auto' 'off') ;;
+    mcap) sources=(io/bag/mcap_reader.cpp io/bag/decompress.cpp io/bag/bag_scans.cpp)
+          extra=('MCAP0' 'zstd' 'lz4' 'ros2msg' 'cdr' 'ros2' 'sensor_msgs/msg/PointCloud2') ;;
+    pointcloud2_cdr) sources=(core/cloud/point_cloud2.cpp)
+                     extra=('x' 'y' 'z' 'intensity' 't' 'time' 'time_stamp' 'timestamp' 'ring'
+                            'channel' 'lidar') ;;
     *) return 1 ;;
   esac
   {

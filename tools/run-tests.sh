@@ -60,9 +60,10 @@ ctest --test-dir build --output-on-failure -j"$JOBS"
 if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   # Everything that parses outside bytes or runs the algorithm: packet decoders and pcap
   # (drivers), DDS sample checks and the daemon's config (system), back-end and map store
-  # (backend), YAML/sequence/PCD I/O (tools), the runner, the core and the simulator: every suite
-  # labelled sanitize. The DDS end-to-end suites (label system, not sanitize) stay in the release
-  # run: they drive whole processes over loopback and parse nothing the unit suites do not.
+  # (backend), YAML/sequence/PCD I/O (tools), recorded bags (bag), the runner, the core and the
+  # simulator: every suite labelled sanitize. The DDS end-to-end suites (label system, not
+  # sanitize) stay in the release run: they drive whole processes over loopback and parse nothing
+  # the unit suites do not.
   begin "asan+ubsan: build (+ fuzz targets)"
   configure_asan build-asan
   asan_targets=(dammloam_tests_sanitize dammloam-evaluate dammloam-simulate dammloam-odometry

@@ -51,7 +51,7 @@ configure_clang() {  # configure_clang BUILD_DIR CMAKE_ARGS...
 
 configure_asan() {  # configure_asan BUILD_DIR
   configure_clang "$1" -DDAMMLOAM_FUZZ=ON \
-    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system"
+    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system;bag"
 }
 
 configure_tsan() {  # configure_tsan BUILD_DIR

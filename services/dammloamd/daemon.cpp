@@ -242,21 +242,22 @@ void Daemon::Accept(const dds::CloudInput& cloud, std::uint64_t seq,
   stats_.Received();
   InjectFault(Stage::kReceive);
   dds::CloudConversion conversion = dds::CloudToScan(cloud, limits);
-  if (!conversion.scan) return Reject(sample, cloud.stamp, conversion.code, conversion.error);
+  const dammloam_msg_Time stamp{cloud.stamp.sec, cloud.stamp.nanosec};
+  if (!conversion.scan) return Reject(sample, stamp, conversion.code, conversion.error);
   // One timeline for both inputs: the odometry cannot go back in time.
-  if (have_last_stamp_ && !Later(cloud.stamp, last_stamp_)) {
+  if (have_last_stamp_ && !Later(stamp, last_stamp_)) {
     const bool duplicate =
-        cloud.stamp.sec == last_stamp_.sec && cloud.stamp.nanosec == last_stamp_.nanosec;
-    return Reject(sample, cloud.stamp, duplicate ? "duplicate_stamp" : "out_of_order_stamp",
+        stamp.sec == last_stamp_.sec && stamp.nanosec == last_stamp_.nanosec;
+    return Reject(sample, stamp, duplicate ? "duplicate_stamp" : "out_of_order_stamp",
                   std::string(duplicate ? "duplicate" : "out-of-order") + " stamp: not after " +
                       "the last accepted stamp " + StampText(last_stamp_));
   }
   have_last_stamp_ = true;
-  last_stamp_ = cloud.stamp;
+  last_stamp_ = stamp;
   // The pose is at the scan's first point: a cloud stamped at the end of its sweep gets the
   // stamp of its start on every output.
   const bool restamped = conversion.start_offset != 0.0;
-  ReceivedScan item{{restamped ? dds::ToMsgTime(conversion.scan->t_start) : cloud.stamp, seq,
+  ReceivedScan item{{restamped ? dds::ToMsgTime(conversion.scan->t_start) : stamp, seq,
                      std::string(cloud.frame_id), std::chrono::steady_clock::now()},
                     std::move(*conversion.scan)};
   const ScanMeta meta = item.meta;

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/cloud/point_cloud2.hpp"
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/scan.hpp"
 #include "dammloam.h"
@@ -55,54 +56,14 @@ class CloudView {
 // point_step 24, height 1, dense. Intensity/t/ring are written as 0 when the scan lacks them.
 CloudMessage ScanToCloud(const Scan& scan, const std::string& frame_id, std::uint64_t seq);
 
-// What to do with per-point times. Native input keeps them when present; the ROS 2 input makes
-// the choice explicit (ros2.deskew: auto requires them, off ignores them).
-enum class PointTimes {
-  kOptional,  // read when present, else the scan is registered without deskew
-  kRequired,  // a cloud without a time field is rejected (code "missing_time")
-  kIgnored,   // never read: every scan is registered without deskew
-};
-
-// What the daemon accepts; anything else is rejected with a message naming the problem.
-struct CloudLimits {
-  std::uint64_t max_bytes = 32ull << 20;    // payload size limit (OS1-128 x 2048 is ~12 MiB)
-  std::uint64_t max_points = 1u << 21;
-  double max_point_time = 1.0;              // seconds after the stamp
-  int max_ring = 1024;                      // exclusive; the daemon sets the sensor's rings
-  PointTimes point_times = PointTimes::kOptional;
-  // Per-point times may be negative, down to -max_point_time: the stamp is the end of the sweep
-  // (velodyne_pointcloud stamps a cloud with its last packet). The scan is then re-referenced to
-  // its first point: Scan::t_start = stamp + min(time), times shifted to start at 0.
-  bool stamp_may_end_scan = false;
-  // Appended to the "missing_time" error: which setting accepts such clouds.
-  std::string missing_time_hint;
-};
-
-// One PointField, whatever IDL type carried it. Points into the sample it was taken from.
-struct CloudFieldView {
-  std::string_view name;  // empty when the sample's name was null
-  std::uint32_t offset = 0;
-  std::uint8_t datatype = 0;
-  std::uint32_t count = 0;
-};
-
-// The sensor_msgs/PointCloud2 content of an incoming sample, vendor-neutral: the native
-// dammloam PointCloud and the ROS 2 PointCloud2_ both reduce to this (ViewOf below and in
-// ros2_messages.hpp), so both inputs are validated and converted by the same code. Points into
-// the sample: valid while it lives.
-struct CloudInput {
-  dammloam_msg_Time stamp{};
-  std::string_view frame_id;
-  std::uint32_t height = 0;
-  std::uint32_t width = 0;
-  std::vector<CloudFieldView> fields;
-  bool is_bigendian = false;
-  std::uint32_t point_step = 0;
-  std::uint32_t row_step = 0;
-  const std::uint8_t* data = nullptr;
-  std::size_t data_size = 0;
-  bool is_dense = true;
-};
+// The PointCloud2 content and its conversion live in core (core/cloud/point_cloud2.hpp), shared
+// with the recorded-bag input of io/bag; these names keep the DDS code's spelling.
+using ::dammloam::CloudConversion;
+using ::dammloam::CloudFieldView;
+using ::dammloam::CloudInput;
+using ::dammloam::CloudLimits;
+using ::dammloam::CloudToScan;
+using ::dammloam::PointTimes;
 
 CloudInput ViewOf(const dammloam_msg_PointCloud& cloud);
 
@@ -148,24 +109,7 @@ void ViewBodyOf(const CloudMessage& message, std::vector<CField>& fields, CCloud
   sample.is_dense = message.is_dense;
 }
 
-struct CloudConversion {
-  std::optional<Scan> scan;        // set on success
-  std::string error;               // set on failure: what is wrong, naming the field/point
-  std::string code;                // set on failure: short category, e.g. "payload_size"
-  std::size_t skipped_points = 0;  // no-return points (all zero, or non-finite in non-dense clouds)
-  // scan->t_start minus the stamp: negative when the stamp ends the sweep (stamp_may_end_scan).
-  double start_offset = 0.0;
-};
-
-// Validates header, fields (names, types, offsets, counts), steps, payload size, byte order and
-// every point, then converts. Points exactly at the origin are no-returns and are skipped;
-// non-finite points are skipped in clouds with is_dense=false and are an error otherwise.
-// Reads x y z (float32|float64, required), intensity (any type, optional), per-point time
-// since header.stamp from the first of t, time, time_stamp (float32|float64 seconds or
-// int32|uint32 nanoseconds; other types are an error), ring or channel (any type, optional).
-// That covers ouster-ros (t uint32 ns, ring), velodyne_pointcloud (time float32 s, ring) and
-// nebula (time_stamp uint32 ns, channel).
-CloudConversion CloudToScan(const CloudInput& cloud, const CloudLimits& limits);
+// CloudToScan (core) on the native sample.
 CloudConversion CloudToScan(const dammloam_msg_PointCloud& cloud, const CloudLimits& limits);
 
 // Labelled output cloud: x y z (sensor), map_x map_y map_z (map), normal_x normal_y normal_z

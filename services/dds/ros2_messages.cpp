@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "core/cloud/labelled_cloud2.hpp"
 #include "services/dds/messages.hpp"
 
 namespace dammloam::dds {
@@ -39,43 +40,18 @@ Ros2CloudView::Ros2CloudView(const CloudMessage& message) {
 }
 
 CloudMessage LabelledToRos2Cloud(const LabelledPoints& points, const std::string& frame_id) {
+  Cloud2 cloud = LabelledRos2Cloud(points.points_sensor, points.normals, points.labels, frame_id);
   CloudMessage msg;
-  msg.frame_id = frame_id;
-  msg.width = static_cast<std::uint32_t>(points.points_sensor.size());
-  const char* names[] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-  for (std::uint32_t k = 0; k < 6; ++k) {
-    msg.fields.push_back({names[k], 4 * k, dammloam_msg_DATATYPE_FLOAT32, 1});
-  }
-  msg.fields.push_back({"label", 24, dammloam_msg_DATATYPE_UINT8, 1});
-  msg.point_step = 28;
-  msg.row_step = msg.point_step * msg.width;
-  msg.data.assign(std::size_t{msg.row_step}, 0);
-  const bool has_normals = points.normals.size() == points.points_sensor.size();
-  for (std::size_t i = 0; i < points.points_sensor.size(); ++i) {
-    std::uint8_t* p = msg.data.data() + i * msg.point_step;
-    const Eigen::Vector3f xyz = points.points_sensor[i].cast<float>();
-    const Eigen::Vector3f normal = has_normals ? points.normals[i] : Eigen::Vector3f::Zero();
-    const float values[6] = {xyz.x(), xyz.y(), xyz.z(), normal.x(), normal.y(), normal.z()};
-    std::memcpy(p, values, sizeof(values));
-    p[24] = static_cast<std::uint8_t>(points.labels[i]);
-  }
+  msg.frame_id = std::move(cloud.frame_id);
+  msg.height = cloud.height;
+  msg.width = cloud.width;
+  for (const Cloud2Field& f : cloud.fields) msg.fields.push_back({f.name, f.offset, f.datatype, f.count});
+  msg.is_bigendian = cloud.is_bigendian;
+  msg.point_step = cloud.point_step;
+  msg.row_step = cloud.row_step;
+  msg.data = std::move(cloud.data);
+  msg.is_dense = cloud.is_dense;
   return msg;
-}
-
-Matrix6d PoseCovarianceToRos(const Matrix6d& covariance, const Eigen::Isometry3d& T_world_sensor) {
-  Matrix6d J = Matrix6d::Identity();
-  J.topRightCorner<3, 3>() = -Hat(T_world_sensor.translation());
-  return J * covariance * J.transpose();
-}
-
-Matrix6d TwistCovarianceToRos(const Matrix6d& motion_covariance,
-                              const Eigen::Isometry3d& T_world_sensor, double dt) {
-  const Eigen::Matrix3d Rt = T_world_sensor.linear().transpose();
-  Matrix6d ad_inverse = Matrix6d::Zero();  // Ad(T^-1) for the [rho; phi] order
-  ad_inverse.topLeftCorner<3, 3>() = Rt;
-  ad_inverse.topRightCorner<3, 3>() = -Rt * Hat(T_world_sensor.translation());
-  ad_inverse.bottomRightCorner<3, 3>() = Rt;
-  return ad_inverse * motion_covariance * ad_inverse.transpose() / (dt * dt);
 }
 
 nav_msgs_msg_dds__Odometry_ ToRos2Odometry(const OdometryResult& result,

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/odometry/odometry_result.hpp"
+#include "core/odometry/ros_covariance.hpp"
 #include "nav_msgs.h"
 #include "sensor_msgs.h"
 #include "services/dds/dds.hpp"
@@ -52,25 +53,13 @@ class Ros2CloudView {
   sensor_msgs_msg_dds__PointCloud2_ sample_{};
 };
 
-// The labelled cloud for ROS 2 tools (RViz colours by label): x y z normal_x normal_y normal_z
-// (float32, sensor frame at the scan's start, deskewed) and label (uint8, the dammloam point
-// class); point_step 28, height 1, dense. Map coordinates are left to TF.
+// The labelled cloud for ROS 2 tools (RViz colours by label): the layout of
+// core/cloud/labelled_cloud2.hpp (LabelledRos2Cloud), as a CloudMessage.
 CloudMessage LabelledToRos2Cloud(const LabelledPoints& points, const std::string& frame_id);
 
-// Pose covariance in ROS order [x y z roll pitch yaw] from the core's, whose tangent order is
-// [translation; rotation] of a left (world-frame) SE(3) perturbation T = Exp(xi) * T_world_sensor.
-// ROS means a perturbation of the position and small rotations about the parent's fixed X Y Z
-// axes. The rotation parts agree (a left perturbation rotates about the world axes); the
-// position moves by rho + phi x t, so the translation block picks up the rotation uncertainty
-// lever-armed by the distance from the origin: Sigma_ros = J Sigma J^T, J = [I -[t]x; 0 I].
-Matrix6d PoseCovarianceToRos(const Matrix6d& covariance, const Eigen::Isometry3d& T_world_sensor);
-
-// Twist covariance in the sensor (child) frame: the scan-to-scan registration covariance (left
-// perturbation, world frame) moved into the body frame with the inverse adjoint and divided by
-// dt^2, as the velocity is that motion over dt. An estimate: the core does not filter velocity
-// uncertainty.
-Matrix6d TwistCovarianceToRos(const Matrix6d& motion_covariance,
-                              const Eigen::Isometry3d& T_world_sensor, double dt);
+// Covariance conventions (core/odometry/ros_covariance.hpp), shared with the MCAP output.
+using ::dammloam::PoseCovarianceToRos;
+using ::dammloam::TwistCovarianceToRos;
 
 // nav_msgs/Odometry of one scan: pose = T_odom_sensor (the odometry, continuous), twist in the
 // sensor frame. String members point into the given strings, which must outlive the sample.

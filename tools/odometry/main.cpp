@@ -1,4 +1,6 @@
-// dammloam-odometry SEQUENCE_DIR --out poses.tum [--config cfg.yaml]
+// dammloam-odometry INPUT --out poses.tum [--config cfg.yaml] [--topic /points]
+//     [--sensor-meta meta.json] [--mcap out.mcap]
+// INPUT: sequence directory, KITTI folder, rosbag2 directory or .mcap file.
 //     [--backend-config backend.yaml] [--map map.pcd]
 //     [--stats stats.csv] [--max-scans N] [--quiet]
 //     [--no-loop-closure] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
@@ -10,10 +12,18 @@
 #include "tools/odometry/runner.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"DAMM-LOAM odometry with loop closure over a sequence directory"};
+  CLI::App app{"DAMM-LOAM odometry with loop closure over a sequence directory or bag"};
   dammloam::tools::RunnerOptions o;
   bool no_loop_closure = false;
-  app.add_option("sequence", o.sequence, "sequence directory (or KITTI-layout folder)")->required();
+  app.add_option("sequence", o.sequence,
+                 "sequence directory, KITTI-layout folder, rosbag2 directory (metadata.yaml; "
+                 "sqlite3 or mcap storage) or .mcap file")
+      ->required();
+  app.add_option("--topic", o.topic,
+                 "bags: the sensor_msgs/msg/PointCloud2 topic (default: the only one)");
+  app.add_option("--sensor-meta", o.sensor_meta,
+                 "bags: meta.json with the sensor model (default: guessed from the clouds)")
+      ->check(CLI::ExistingFile);
   app.add_option("--out", o.out,
                  "output trajectory (TUM): corrected with loop closure, else odometry; "
                  "localized poses with --localize")
@@ -33,6 +43,19 @@ int main(int argc, char** argv) {
                                 "write every loop candidate as a JSON line (accepted or not)");
   auto* save = app.add_option("--save-map", o.save_map,
                               "save keyframes, descriptors and the global map to this directory");
+  app.add_option("--velodyne-model", o.velodyne_model,
+                 "bags of raw packets (velodyne_msgs/msg/VelodyneScan): vlp16, vlp32c, hdl32e, "
+                 "vls128; needs --velodyne-calibration");
+  app.add_option("--velodyne-calibration", o.velodyne_calibration,
+                 "the sensor's calibration YAML (drivers/calibration, nebula's format)")
+      ->check(CLI::ExistingFile);
+  auto* mcap = app.add_option("--mcap", o.mcap,
+                              "also write odometry, /tf, labelled clouds and loop closures as "
+                              "ROS 2 messages into this MCAP file (Foxglove, ros2 bag play)");
+  std::string mcap_compression = "zstd";
+  app.add_option("--mcap-compression", mcap_compression, "chunks of --mcap: zstd or none")
+      ->check(CLI::IsMember({"zstd", "none"}))
+      ->needs(mcap);
   auto* load = app.add_option("--load-map", o.load_map, "map directory for --localize")
                    ->check(CLI::ExistingDirectory);
   auto* localize = app.add_flag("--localize", o.localize,
@@ -40,10 +63,12 @@ int main(int argc, char** argv) {
   events->excludes(no_lc);
   localize->needs(load);
   load->needs(localize);
+  localize->excludes(mcap);
   localize->excludes(save)->excludes(no_lc)->excludes(events)->excludes("--stats")
       ->excludes("--map");
   CLI11_PARSE(app, argc, argv);
   o.loop_closure = !no_loop_closure;
+  o.mcap_compression = mcap_compression == "none" ? "" : mcap_compression;
   // The daemon's allocator thresholds: without them glibc maps and faults in a scan's large
   // buffers afresh (~77 more page faults per scan on a VLP-16), and --stats would time another
   // process than the one a robot runs.

@@ -12,9 +12,10 @@
 #include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
 #include "io/pcd/labelled_pcd.hpp"
-#include "io/sequence_io.hpp"
+#include "io/bag/scan_source.hpp"
 #include "io/mapstore/map_store.hpp"
 #include "tools/odometry/loop_event_json.hpp"
+#include "tools/odometry/mcap_output.hpp"
 #include "tools/odometry/runner.hpp"
 #include "tools/odometry/stats_csv.hpp"
 
@@ -83,17 +84,16 @@ std::vector<io::StampedPose> CorrectedTrajectory(const backend::LoopClosingBacke
 
 int RunMapping(const RunnerOptions& o) {
   CheckSaveTarget(o.save_map);
-  const io::SequenceReader reader = io::SequenceReader::Open(o.sequence);
+  const std::unique_ptr<io::ScanSource> source = OpenSource(o);
   const OdometryConfig config =
       o.config.empty() ? OdometryConfig{} : io::LoadOdometryConfig(o.config);
   io::ValidateOdometryConfig(config);
   const backend::BackendParameters backend_parameters =
       o.backend_config.empty() ? backend::BackendParameters{}
                                : io::LoadBackendConfig(o.backend_config);
-  const std::size_t n = o.max_scans > 0 ? std::min(o.max_scans, reader.size()) : reader.size();
-  if (n == 0) throw std::runtime_error(o.sequence.string() + ": sequence has no scans");
+  const std::size_t n = ScansToRun(*source, o.max_scans);
 
-  OdometryPipeline pipeline(config, reader.meta().model);
+  OdometryPipeline pipeline(config, source->model());
   // Without loop closure the back-end is only needed to build a map for --save-map; it then
   // keeps keyframes but verifies no loop candidate.
   std::unique_ptr<backend::LoopClosingBackend> backend;
@@ -103,6 +103,12 @@ int RunMapping(const RunnerOptions& o) {
     backend = std::make_unique<backend::LoopClosingBackend>(backend_config);
   }
   EventLog events(o.events);
+  std::optional<McapOutput> mcap;
+  if (!o.mcap.empty()) mcap.emplace(o.mcap, source->model().scan_period, o.mcap_compression);
+  const auto handle_loops = [&](const std::vector<backend::LoopEvent>& found) {
+    events.Write(found);
+    if (mcap) mcap->AddLoops(found);
+  };
   std::optional<StatsCsv> stats;
   if (!o.stats.empty()) stats.emplace(o.stats);
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
@@ -111,11 +117,12 @@ int RunMapping(const RunnerOptions& o) {
   std::vector<std::uint64_t> scan_indices;
   std::vector<double> total_ms;
   std::size_t not_registered = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    Scan scan = reader.ReadScan(i);
-    scan.t_start = reader.times()[i];
-    const OdometryResult result = pipeline.Process(std::move(scan));
-    odometry.push_back({reader.times()[i], result.T_world_sensor});
+  std::size_t i = 0;
+  for (std::optional<Scan> scan; (o.max_scans == 0 || i < o.max_scans) && (scan = source->Next());
+       ++i) {
+    const double t_start = scan->t_start;
+    const OdometryResult result = pipeline.Process(std::move(*scan));
+    odometry.push_back({t_start, result.T_world_sensor});
     scan_indices.push_back(result.scan_index);
     total_ms.push_back(result.timings.total_ms);
     if (!Registered(result.status)) {
@@ -123,20 +130,28 @@ int RunMapping(const RunnerOptions& o) {
       if (!o.quiet) spdlog::warn("scan {}: {}", i, Name(result.status));
     } else if (backend) {
       backend->AddScan(result);
-      events.Write(backend->Process());
     }
+    if (mcap) mcap->AddScan(result);
+    if (backend && Registered(result.status)) handle_loops(backend->Process());
     if (stats) stats->Write(result);
     if (progress) {
-      std::fprintf(stderr, "\r%zu/%zu scans  %.1f ms  ", i + 1, n, result.timings.total_ms);
+      // n is 0 when the source cannot tell its length (raw packet bags).
+      if (n > 0) {
+        std::fprintf(stderr, "\r%zu/%zu scans  %.1f ms  ", i + 1, n, result.timings.total_ms);
+      } else {
+        std::fprintf(stderr, "\r%zu scans  %.1f ms  ", i + 1, result.timings.total_ms);
+      }
     }
   }
   if (progress) std::fprintf(stderr, "\n");
+  if (i == 0) throw std::runtime_error(o.sequence.string() + ": no scans");
 
   std::vector<io::StampedPose> corrected;
   if (backend) {
-    events.Write(backend->Process());
+    handle_loops(backend->Process());
     corrected = CorrectedTrajectory(*backend, odometry, scan_indices);
   }
+  if (mcap) mcap->Close();
   io::WriteTum(o.out, o.loop_closure ? corrected : odometry);
   if (!o.odometry_out.empty()) io::WriteTum(o.odometry_out, odometry);
   if (!o.map.empty()) io::WriteLabelledPcd(o.map, MapCloud(pipeline.odometry().local_map()));
@@ -149,14 +164,14 @@ int RunMapping(const RunnerOptions& o) {
     }
   }
   if (o.quiet) return 0;
-  spdlog::info("{} scans, {} not registered, median {:.1f} ms per scan -> {}", n, not_registered,
+  spdlog::info("{} scans, {} not registered, median {:.1f} ms per scan -> {}", i, not_registered,
                Median(total_ms), o.out.string());
   if (o.loop_closure) {
     spdlog::info("loop closure: {} keyframes, {} loop candidates, {} accepted, {} pose-graph "
                  "solves", backend->NumKeyframes(), events.accepted + events.rejected,
                  events.accepted, backend->NumOptimizations());
   }
-  if (const auto gt = reader.ReadGroundTruth()) {
+  if (const auto gt = source->ReadGroundTruth()) {
     const auto before = LogMetrics("odometry", *gt, odometry);
     const auto after = o.loop_closure ? LogMetrics("corrected", *gt, corrected) : std::nullopt;
     if (before && after && *before > 0.0) {

@@ -2,9 +2,11 @@
 #include <optional>
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "io/bag/scan_source.hpp"
 #include "io/tum.hpp"
 
 // The two modes of dammloam-odometry. main.cpp only parses the command line.
@@ -16,6 +18,12 @@ struct RunnerOptions {
   std::filesystem::path odometry_out;  // raw odometry trajectory (loop closure on)
   std::filesystem::path events;        // JSON lines, one per LoopEvent
   std::filesystem::path save_map, load_map;
+  std::string topic;                  // bags: the PointCloud2 topic
+  std::filesystem::path sensor_meta;  // bags: meta.json with the sensor model
+  std::filesystem::path mcap;         // write the outputs as ROS 2 messages into this MCAP
+  std::string mcap_compression = "zstd";  // its chunks: zstd or "" (none)
+  std::string velodyne_model;                 // bags of raw Velodyne packets: vlp16, ...
+  std::filesystem::path velodyne_calibration;  // and the sensor's calibration YAML
   std::size_t max_scans = 0;
   bool loop_closure = true;
   bool localize = false;
@@ -36,5 +44,10 @@ std::optional<double> LogMetrics(const std::string& label, const std::vector<io:
                                  const std::vector<io::StampedPose>& estimate);
 
 double Median(std::vector<double> values);
+
+// The scans of options.sequence: a sequence directory, KITTI folder, rosbag2 or .mcap.
+std::unique_ptr<io::ScanSource> OpenSource(const RunnerOptions& options);
+// How many scans the run will see, for progress; 0 when the source cannot tell.
+std::size_t ScansToRun(const io::ScanSource& source, std::size_t max_scans);
 
 }  // namespace dammloam::tools
