@@ -68,7 +68,7 @@ Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
       Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) +
       Wave(spec_.wobble.lateral, spec_.wobble.lateral_period, t, 0.4);
   const Eigen::Vector2d xy = base.position + lateral * left;
-  const double ground = spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0;
+  const double ground = (spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0) + FloorHeight(spec_.floor_rises, s);
   const double z = ground + spec_.sensor_height +
                    Wave(spec_.wobble.vertical, spec_.wobble.vertical_period, t, 1.1);
   return {xy.x(), xy.y(), z};

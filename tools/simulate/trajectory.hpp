@@ -53,7 +53,8 @@ struct MotionSpec {
   LeggedProfile legged;
   WheeledProfile wheeled;
   VehicleProfile vehicle;
-  // Carriers only (not constant): staircases on the path and where the carrier slows down.
+  // Staircases on the path (every carrier climbs them) and where a carrier that is not
+  // `constant` slows down.
   std::vector<FloorRise> floor_rises;
   std::vector<SpeedZone> slow_zones;
 };
