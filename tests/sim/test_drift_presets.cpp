@@ -147,6 +147,31 @@ TEST(DriftPresets, VehicleDrivesAtCarSpeedsWithTheSensorOnTheRoof) {
   EXPECT_LT(largest_suspension_deg, 2.0);
 }
 
+// Every column fires at its own time: the car's pose must be continuous through a corner, where
+// the suspension rolls it (no jump between 1 ms samples beyond its speed, vibration and turn).
+TEST(DriftPresets, VehiclePoseIsContinuousThroughACorner) {
+  MotionSpec spec;
+  spec.path = Path().Line(150.0).Arc(10.0, std::numbers::pi / 2).Line(150.0);
+  spec.kind = MotionKind::Vehicle;
+  spec.seed = 3;
+  spec.duration = 70.0;
+  const Trajectory drive(spec);
+  constexpr double kDt = 0.001;
+  Eigen::Isometry3d before = drive.Pose(-kDt), now = drive.Pose(0.0);
+  double worst_step = 0.0, worst_second = 0.0, worst_turn = 0.0;
+  for (double t = kDt; t < 70.0; t += kDt) {
+    const Eigen::Isometry3d next = drive.Pose(t);
+    worst_step = std::max(worst_step, (next.translation() - now.translation()).norm());
+    worst_second = std::max(worst_second, (next.translation() - 2.0 * now.translation() + before.translation()).norm());
+    worst_turn = std::max(worst_turn, Eigen::AngleAxisd((now.inverse() * next).rotation()).angle());
+    before = now;
+    now = next;
+  }
+  EXPECT_LT(worst_step, 10.5 * kDt);
+  EXPECT_LT(worst_second, 200.0 * kDt * kDt);
+  EXPECT_LT(worst_turn, 1.0 * kDt);  // rad: the corner's 0.4 rad/s and the vibration's rate
+}
+
 TEST(DriftPresets, TwoFloorClimbsTheStairsAndWalksTheSameCorridorsRightAbove) {
   const Preset preset = *FindPreset("two-floor");
   const Simulator sim(preset, Vlp16(), 1);
