@@ -293,7 +293,9 @@ TEST(Presets, NamesAndDefaults) {
                                              "handheld-campus",          "wheeled-zigzag",
                                              "handheld-corridor-people", "wheeled-zigzag-people",
                                              "campus-crowd",             "follow-me",
-                                             "handheld-look-around"};
+                                             "handheld-look-around",     "campus-long-handheld",
+                                             "campus-long-vehicle",      "two-floor",
+                                             "warehouse-aisles"};
   EXPECT_EQ(PresetNames(), expected);
   for (const std::string& name : expected) {
     const auto p = FindPreset(name);

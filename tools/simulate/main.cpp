@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
   auto* scene = app.add_option("--scene", a.scene, "Scene")->check(CLI::IsMember(sim::SceneNames()));
   auto* motion = app.add_option("--motion", a.motion,
                                 "Carrier: constant (default; speed ramp then constant), handheld, "
-                                "legged, wheeled (seeded by --seed)")
+                                "legged, wheeled, vehicle (seeded by --seed)")
                      ->check(CLI::IsMember(sim::MotionNames()));
   app.add_option("--preset", a.preset, "Realistic preset: scene, motion, noise, range model, scans")
       ->check(CLI::IsMember(sim::PresetNames()))

@@ -43,13 +43,14 @@ double RaisedCosine(double x) {
 
 }  // namespace
 
-std::vector<std::string> MotionNames() { return {"constant", "handheld", "legged", "wheeled"}; }
+std::vector<std::string> MotionNames() { return {"constant", "handheld", "legged", "wheeled", "vehicle"}; }
 
 std::optional<MotionKind> ParseMotionKind(std::string_view name) {
   if (name == "constant") return MotionKind::Constant;
   if (name == "handheld") return MotionKind::Handheld;
   if (name == "legged") return MotionKind::Legged;
   if (name == "wheeled") return MotionKind::Wheeled;
+  if (name == "vehicle") return MotionKind::Vehicle;
   return std::nullopt;
 }
 
@@ -59,6 +60,7 @@ std::string_view MotionName(MotionKind kind) {
     case MotionKind::Handheld: return "handheld";
     case MotionKind::Legged: return "legged";
     case MotionKind::Wheeled: return "wheeled";
+    case MotionKind::Vehicle: return "vehicle";
   }
   return "unknown";
 }
@@ -145,10 +147,36 @@ CarrierParams ToParams(const WheeledProfile& p) {
   return c;
 }
 
+CarrierParams ToParams(const VehicleProfile& p) {
+  CarrierParams c;
+  c.speed_min = p.speed_min;
+  c.speed_max = p.speed_max;
+  c.speed_time_constant = 0.0;  // piecewise target speeds
+  c.hold_min = p.hold_min;
+  c.hold_max = p.hold_max;
+  c.accel = p.accel;
+  c.lateral_accel = p.lateral_accel;
+  c.stops_min = p.stops_min;
+  c.stops_max = p.stops_max;
+  c.stop_min = p.stop_min;
+  c.stop_max = p.stop_max;
+  c.shake_deg = p.vibration_deg;
+  c.shake_hz_min = p.vibration_hz_min;
+  c.shake_hz_max = p.vibration_hz_max;
+  c.shake_needs_motion = true;
+  c.vibration = p.vibration;
+  c.sensor_height = p.sensor_height;
+  c.pitch_per_accel_deg = p.pitch_per_accel_deg;
+  c.roll_per_lateral_accel_deg = p.roll_per_lateral_accel_deg;
+  c.suspension_time_constant = p.suspension_time_constant;
+  return c;
+}
+
 double CarrierMotion::Wave::operator()(double t) const { return amplitude * std::sin(omega * t + phase); }
 
 CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool closed,
-                             double duration, double arrive_time, std::uint64_t seed)
+                             double duration, double arrive_time, std::uint64_t seed,
+                             const std::vector<SpeedZone>& slow_zones)
     : params_(params), path_length_(path.length()), closed_(closed) {
   Rng rng{seed ^ 0x6D6F74696F6E5EEDull};
   rng.Next();
@@ -236,6 +264,7 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     const double kappa = std::abs(path.Curvature(std::min(static_cast<double>(i) * kLimitDs, path_length_)));
     if (kappa > 1e-9) limit_[i] = std::sqrt(params_.lateral_accel / kappa);
   }
+  ApplySlowZones(slow_zones);
   if (!closed_) {  // stop exactly at the end: v^2 = 2 a (L - s)
     for (std::size_t i = 0; i < limit_.size(); ++i) {
       const double left = std::max(path_length_ - static_cast<double>(i) * kLimitDs, 0.0);
@@ -274,6 +303,7 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     dg_[k] = (target - g) / kGaitLag;
     g += dg_[k] * kDt;
   }
+  ComputeSuspension(path);
 
   // Body motion: phases and frequencies drawn once per seed.
   bob_phase_ = rng.Range(0.0, 2.0 * kPi);
@@ -316,6 +346,54 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     look_arounds_.push_back({next, length, sign * degrees * kDegToRad});
     next += length + gap;
   }
+}
+
+void CarrierMotion::ApplySlowZones(const std::vector<SpeedZone>& zones) {
+  for (const SpeedZone& zone : zones) {
+    const auto first = static_cast<std::size_t>(std::max(zone.s_begin, 0.0) / kLimitDs);
+    const auto last = static_cast<std::size_t>(std::max(zone.s_end, 0.0) / kLimitDs);
+    for (std::size_t i = first; i <= last && i < limit_.size(); ++i) {
+      limit_[i] = std::min(limit_[i], zone.max_speed);
+    }
+  }
+}
+
+// The body's pitch and roll on its springs: proportional to the longitudinal and the lateral
+// acceleration, each through two low-passes, so the angles and their rates stay continuous
+// where the path's curvature or the speed profile changes abruptly.
+void CarrierMotion::ComputeSuspension(const Path& path) {
+  if (params_.pitch_per_accel_deg <= 0.0 && params_.roll_per_lateral_accel_deg <= 0.0) return;
+  const std::size_t n = v_.size();
+  const double pitch_gain = params_.pitch_per_accel_deg * kDegToRad;
+  const double roll_gain = params_.roll_per_lateral_accel_deg * kDegToRad;
+  const double a = kDt / std::max(params_.suspension_time_constant, kDt);
+  suspension_pitch_.assign(n, 0.0);
+  suspension_roll_.assign(n, 0.0);
+  double p1 = 0.0, p2 = 0.0, r1 = 0.0, r2 = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t prev = k > 0 ? k - 1 : 0, next = std::min(k + 1, n - 1);
+    const double dt = static_cast<double>(next - prev) * kDt;
+    const double along = dt > 0.0 ? (v_[next] - v_[prev]) / dt : 0.0;
+    double s = s_[k];
+    if (closed_ && path_length_ > 0.0) s = std::fmod(s, path_length_);
+    const double lateral = v_[k] * v_[k] * path.Curvature(s);
+    // Nose down (positive pitch) when braking; outwards (left side up in a left turn).
+    p1 += (-pitch_gain * along - p1) * a;
+    p2 += (p1 - p2) * a;
+    r1 += (roll_gain * lateral - r1) * a;
+    r2 += (r1 - r2) * a;
+    suspension_pitch_[k] = p2;
+    suspension_roll_[k] = r2;
+  }
+}
+
+double CarrierMotion::Suspension(const std::vector<double>& table, double t) const {
+  if (table.empty()) return 0.0;
+  const double x = std::max(t, 0.0) / kDt;
+  const std::size_t k = static_cast<std::size_t>(x);
+  if (k + 1 >= table.size()) return table.back();
+  const double u = x - static_cast<double>(k);
+  return table[k] + u * (table[k + 1] - table[k]);
 }
 
 double CarrierMotion::SpeedLimit(double s) const {
@@ -395,6 +473,8 @@ CarrierMotion::Body CarrierMotion::BodyAt(double t, double gait) const {
     const double u = (t - look.start) / look.length;
     if (u > 0.0 && u < 1.0) b.yaw += 0.5 * look.amplitude * (1.0 - std::cos(2.0 * kPi * u));
   }
+  b.pitch += Suspension(suspension_pitch_, t);
+  b.roll += Suspension(suspension_roll_, t);
   b.vertical = gait * sum(vib_z_);
   b.lateral = gait * sum(vib_y_);
   if (gait_hz_ > 0.0 && gait > 0.0) {

@@ -12,9 +12,10 @@
 // changes all the time, which a constant-velocity motion model cannot predict.
 namespace dammloam::sim {
 
-enum class MotionKind { Constant, Handheld, Legged, Wheeled };
+enum class MotionKind { Constant, Handheld, Legged, Wheeled, Vehicle };
 
-std::vector<std::string> MotionNames();  // "constant", "handheld", "legged", "wheeled"
+// "constant", "handheld", "legged", "wheeled", "vehicle"
+std::vector<std::string> MotionNames();
 std::optional<MotionKind> ParseMotionKind(std::string_view name);
 std::string_view MotionName(MotionKind kind);
 
@@ -81,6 +82,26 @@ struct WheeledProfile {
   double sensor_height = 0.8;
 };
 
+// A car with the sensor on its roof: target speeds of 5-10 m/s joined by gentle accelerations,
+// turns slowed to a comfortable lateral acceleration, and a suspension that pitches the body
+// when it accelerates or brakes and rolls it outwards in a turn (both lagging behind the
+// acceleration, as springs and dampers do); road roughness shakes it slightly.
+struct VehicleProfile {
+  double speed_min = 5.0, speed_max = 10.0;  // target speeds are drawn within these
+  double hold_min = 8.0, hold_max = 25.0;    // time between target changes
+  double accel = 1.2;                        // peak of a speed change, start or stop
+  double lateral_accel = 1.5;                // a corner of r 10 m is taken at 3.9 m/s
+  int stops_min = 1, stops_max = 2;          // e.g. at a crossing
+  double stop_min = 2.0, stop_max = 6.0;
+  double vibration = 0.003;                  // vertical and lateral, 3 sinusoids in 6-18 Hz
+  double vibration_deg = 0.15;               // roll, pitch, yaw, RMS, same frequencies
+  double vibration_hz_min = 6.0, vibration_hz_max = 18.0;
+  double pitch_per_accel_deg = 0.4;          // nose down when braking, per m/s^2
+  double roll_per_lateral_accel_deg = 0.5;   // outwards in a turn, per m/s^2
+  double suspension_time_constant = 0.25;    // s, each of two low-passes on those angles
+  double sensor_height = 1.8;
+};
+
 // The profile parameters the generator uses, whichever carrier they came from.
 struct CarrierParams {
   double speed_min = 1.0, speed_max = 1.0;
@@ -100,10 +121,20 @@ struct CarrierParams {
   double sensor_height = 1.2;
   double look_arounds_per_minute = 0.0;  // see HandheldProfile
   double look_around_deg_min = 45.0, look_around_deg_max = 100.0, look_around_rate_deg_s = 120.0;
+  double pitch_per_accel_deg = 0.0, roll_per_lateral_accel_deg = 0.0;  // see VehicleProfile
+  double suspension_time_constant = 0.25;
 };
 CarrierParams ToParams(const HandheldProfile& p);
 CarrierParams ToParams(const LeggedProfile& p);
 CarrierParams ToParams(const WheeledProfile& p);
+CarrierParams ToParams(const VehicleProfile& p);
+
+// A stretch of path the carrier takes no faster than `max_speed` (a staircase), approached and
+// left at the carrier's acceleration.
+struct SpeedZone {
+  double s_begin = 0.0, s_end = 0.0;  // metres along the path
+  double max_speed = 0.5;             // m/s along the path
+};
 
 // The carrier's speed along the path and its body motion, precomputed for one seed on a 1 ms
 // grid (distance, speed, gait strength), so Eval(t) is a table look-up with cubic Hermite
@@ -124,7 +155,7 @@ class CarrierMotion {
   // `arrive_time` > 0 on an open path: the base speed is scaled (within 0.8-1.25) so that the
   // end of the path is reached at that time. `duration`: seconds the motion is planned for.
   CarrierMotion(const CarrierParams& params, const Path& path, bool closed, double duration,
-                double arrive_time, std::uint64_t seed);
+                double arrive_time, std::uint64_t seed, const std::vector<SpeedZone>& slow_zones = {});
 
   Sample Eval(double t) const;
   Body BodyAt(double t, double gait) const;
@@ -141,6 +172,9 @@ class CarrierMotion {
   };
   double Integrate(double scale, std::vector<double>* s_out, std::vector<double>* v_out) const;
   double SpeedLimit(double s) const;
+  void ApplySlowZones(const std::vector<SpeedZone>& zones);
+  void ComputeSuspension(const Path& path);
+  double Suspension(const std::vector<double>& table, double t) const;
 
   CarrierParams params_;
   double path_length_ = 0.0;
@@ -150,6 +184,8 @@ class CarrierMotion {
   std::vector<double> envelope_;  // start ramp x stops, per grid step
   std::vector<double> limit_;     // curve and path-end speed limit, per kLimitDs of path
   std::vector<double> s_, v_, g_, dg_;
+  // Suspension pitch and roll (rad) per grid step; empty unless the carrier has a suspension.
+  std::vector<double> suspension_pitch_, suspension_roll_;
   // Body motion components.
   double bob_phase_ = 0.0, sway_phase_ = 0.0, yaw_phase_ = 0.0, pitch_phase_ = 0.0, roll_phase_ = 0.0;
   std::vector<Wave> tilt_roll_, tilt_pitch_, shake_roll_, shake_pitch_, shake_yaw_, vib_z_, vib_y_;

@@ -102,6 +102,19 @@ const std::vector<Preset>& Presets() {
         "a hand-held walk through the zigzag whose operator swings the sensor 45-100 deg sideways "
         "and back at up to 120 deg/s, six times a minute");
     p.back().look_arounds_per_minute = 6.0;
+    // Drift and loop-closure presets (issue 53): long enough for odometry to drift, with true
+    // revisits and look-alike places that are not revisits.
+    add("campus-long-handheld", SceneKind::CampusLong, MotionKind::Handheld, 12000,
+        "a 1.55 km walk over a campus grid (a park and an open field on the way, rolling ground) "
+        "revisiting five streets and crossings, three of them in the opposite direction");
+    add("campus-long-vehicle", SceneKind::CampusLong, MotionKind::Vehicle, 2600,
+        "the campus-long route driven at 5-10 m/s with suspension pitch/roll, corners of r 10 m");
+    add("two-floor", SceneKind::TwoFloor, MotionKind::Handheld, 2500,
+        "round a ring corridor, up a staircase, round the identical corridor 3 m above: a loop "
+        "between the floors is false; each floor's start is revisited");
+    add("warehouse-aisles", SceneKind::Warehouse, MotionKind::Wheeled, 4000,
+        "a robot up and down five identical rack aisles, then two of them again (one against "
+        "its first direction): perceptual aliasing");
     return p;
   }();
   return presets;

@@ -1,5 +1,7 @@
 #include "tools/simulate/scenes.hpp"
 #include "tools/simulate/angles.hpp"
+#include "tools/simulate/drift_scenes.hpp"
+#include "tools/simulate/scene_parts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,30 +12,6 @@ namespace dammloam::sim {
 
 namespace {
 
-
-// Reflectivities: distinct per material so intensity images carry some texture.
-constexpr float kFloor = 0.3f, kCeiling = 0.6f, kWall = 0.5f, kDoor = 0.2f, kPillar = 0.7f;
-
-Rectangle HorizontalRect(double x0, double x1, double y0, double y1, double z, float refl) {
-  return {{0.5 * (x0 + x1), 0.5 * (y0 + y1), z}, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
-          Eigen::Vector3d::UnitY(), 0.5 * (x1 - x0), 0.5 * (y1 - y0), refl};
-}
-
-// Wall in a plane y = const, spanning x0..x1 and z0..z1.
-Rectangle WallAlongX(double x0, double x1, double y, double z0, double z1, float refl) {
-  return {{0.5 * (x0 + x1), y, 0.5 * (z0 + z1)}, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(),
-          Eigen::Vector3d::UnitZ(), 0.5 * (x1 - x0), 0.5 * (z1 - z0), refl};
-}
-
-// Wall in a plane x = const, spanning y0..y1 and z0..z1.
-Rectangle WallAlongY(double y0, double y1, double x, double z0, double z1, float refl) {
-  return {{x, 0.5 * (y0 + y1), 0.5 * (z0 + z1)}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
-          Eigen::Vector3d::UnitZ(), 0.5 * (y1 - y0), 0.5 * (z1 - z0), refl};
-}
-
-Box AxisBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max, float refl) {
-  return {0.5 * (min + max), 0.5 * (max - min), Eigen::Matrix3d::Identity(), refl};
-}
 
 struct CorridorShape {
   double x0 = -10.0, x1 = 50.0;
@@ -170,8 +148,6 @@ Path RoundedRectangle(double length, double width, double r) {
   for (int i = 0; i < 2; ++i) p.Line(length - 2 * r).Arc(r, kPi / 2).Line(width - 2 * r).Arc(r, kPi / 2);
   return p;
 }
-
-constexpr float kFacade = 0.55f, kTrunk = 0.35f, kCrown = 0.15f, kPole = 0.8f;
 
 // Trees and poles 3-4.5 m beside the road every 5-11 m, on either side (layout from `seed`).
 void AddRoadside(Scene& scene, const Path& road, unsigned seed) {
@@ -376,7 +352,7 @@ World Campus(double speed, double duration) {
 std::vector<std::string> SceneNames() {
   return {"corridor",      "zigzag",           "outdoor",           "repetitive",
           "corridor-return", "long-corridor",  "tunnel", "endless-corridor", "straight-corridor",
-          "campus"};
+          "campus", "campus-long", "two-floor", "warehouse"};
 }
 
 std::optional<SceneKind> ParseSceneKind(std::string_view name) {
@@ -390,6 +366,9 @@ std::optional<SceneKind> ParseSceneKind(std::string_view name) {
   if (name == "endless-corridor") return SceneKind::EndlessCorridor;
   if (name == "straight-corridor") return SceneKind::StraightCorridor;
   if (name == "campus") return SceneKind::Campus;
+  if (name == "campus-long") return SceneKind::CampusLong;
+  if (name == "two-floor") return SceneKind::TwoFloor;
+  if (name == "warehouse") return SceneKind::Warehouse;
   return std::nullopt;
 }
 
@@ -405,12 +384,15 @@ std::string_view SceneName(SceneKind kind) {
     case SceneKind::EndlessCorridor: return "endless-corridor";
     case SceneKind::StraightCorridor: return "straight-corridor";
     case SceneKind::Campus: return "campus";
+    case SceneKind::CampusLong: return "campus-long";
+    case SceneKind::TwoFloor: return "two-floor";
+    case SceneKind::Warehouse: return "warehouse";
   }
   return "unknown";
 }
 
 double DefaultSpeed(SceneKind kind) {
-  return kind == SceneKind::Outdoor || kind == SceneKind::Campus ? 1.5 : 1.0;
+  return kind == SceneKind::Outdoor || kind == SceneKind::Campus || kind == SceneKind::CampusLong ? 1.5 : 1.0;
 }
 
 World BuildWorld(SceneKind kind, double speed, double duration, double recess_depth) {
@@ -428,6 +410,9 @@ World BuildWorld(SceneKind kind, double speed, double duration, double recess_de
     case SceneKind::EndlessCorridor: w = EndlessCorridor(speed, duration, recess_depth); break;
     case SceneKind::StraightCorridor: w = StraightCorridor(speed, duration, recess_depth); break;
     case SceneKind::Campus: w = Campus(speed, duration); break;
+    case SceneKind::CampusLong: w = CampusLong(speed, ArriveTime(duration)); break;
+    case SceneKind::TwoFloor: w = TwoFloor(ArriveTime(duration)); break;
+    case SceneKind::Warehouse: w = Warehouse(ArriveTime(duration)); break;
   }
   w.scene.Build();
   return w;

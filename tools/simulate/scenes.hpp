@@ -19,7 +19,10 @@ enum class SceneKind {
   Tunnel,
   EndlessCorridor,
   StraightCorridor,
-  Campus
+  Campus,
+  CampusLong,
+  TwoFloor,
+  Warehouse
 };
 
 // What a scene is for, in one line each:
@@ -38,6 +41,13 @@ enum class SceneKind {
 //  straight-corridor 60 x 2.4 m, three 5 cm recesses; driven straight from x = 2 to x = 58
 //  campus            ~300 m outdoor loop (105 x 52 m) between buildings, trees and poles on
 //                    uneven ground; walked once round, back to the start
+// Scenes where odometry drifts and loop closure is tempted (drift_scenes.hpp):
+//  campus-long       ~1.55 km over a 3 x 2 grid of 85 x 65 m blocks (buildings, a park, an
+//                    open field, trees, poles, parked cars, rolling ground); streets revisited,
+//                    some in the opposite direction
+//  two-floor         a ring corridor on two identical floors 3 m apart, joined by a staircase;
+//                    round floor 1, up the stairs, round floor 2 right above
+//  warehouse         five identical aisles between pallet racks, driven up and down, two again
 std::vector<std::string> SceneNames();
 std::optional<SceneKind> ParseSceneKind(std::string_view name);
 std::string_view SceneName(SceneKind kind);

@@ -116,6 +116,7 @@ World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOp
   w.motion.handheld.look_arounds_per_minute = options.look_arounds_per_minute;
   rescale(w.motion.legged);
   rescale(w.motion.wheeled);
+  rescale(w.motion.vehicle);
   return w;
 }
 

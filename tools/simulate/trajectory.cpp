@@ -12,10 +12,25 @@ double Wave(double amplitude, double period, double t, double phase = 0.0) {
 }
 }  // namespace
 
+double FloorHeight(const std::vector<FloorRise>& rises, double s) {
+  double z = 0.0;
+  for (const FloorRise& rise : rises) {
+    const double length = rise.s_end - rise.s_begin;
+    if (s >= rise.s_end) {
+      z += rise.height;
+    } else if (s > rise.s_begin && length > 0.0) {
+      const double u = (s - rise.s_begin) / length;
+      z += rise.height * u * u * (3.0 - 2.0 * u);  // smoothstep: no kink where the flight starts
+    }
+  }
+  return z;
+}
+
 CarrierParams CarrierParamsOf(const MotionSpec& spec) {
   switch (spec.kind) {
     case MotionKind::Legged: return ToParams(spec.legged);
     case MotionKind::Wheeled: return ToParams(spec.wheeled);
+    case MotionKind::Vehicle: return ToParams(spec.vehicle);
     case MotionKind::Constant:
     case MotionKind::Handheld: break;
   }
@@ -25,7 +40,8 @@ CarrierParams CarrierParamsOf(const MotionSpec& spec) {
 Trajectory::Trajectory(MotionSpec spec) : spec_(std::move(spec)) {
   if (spec_.kind != MotionKind::Constant) {
     carrier_ = std::make_shared<const CarrierMotion>(CarrierParamsOf(spec_), spec_.path, spec_.closed,
-                                                     spec_.duration, spec_.arrive_time, spec_.seed);
+                                                     spec_.duration, spec_.arrive_time, spec_.seed,
+                                                     spec_.slow_zones);
   }
 }
 
@@ -52,7 +68,7 @@ Eigen::Vector3d Trajectory::Position(double t, double* path_heading) const {
       Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) +
       Wave(spec_.wobble.lateral, spec_.wobble.lateral_period, t, 0.4);
   const Eigen::Vector2d xy = base.position + lateral * left;
-  const double ground = spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0;
+  const double ground = (spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0) + FloorHeight(spec_.floor_rises, s);
   const double z = ground + spec_.sensor_height +
                    Wave(spec_.wobble.vertical, spec_.wobble.vertical_period, t, 1.1);
   return {xy.x(), xy.y(), z};
@@ -102,7 +118,7 @@ Eigen::Isometry3d Trajectory::CarrierPose(double t) const {
   const Eigen::Vector2d left(-std::sin(base.heading), std::cos(base.heading));
   const double lateral = Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) + body.lateral;
   const Eigen::Vector2d xy = base.position + lateral * left;
-  const double ground = spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0;
+  const double ground = (spec_.ground ? spec_.ground->Height(xy.x(), xy.y()) : 0.0) + FloorHeight(spec_.floor_rises, s);
   const Eigen::Vector3d p(xy.x(), xy.y(), ground + spec_.sensor_height + body.vertical);
 
   const double zigzag_slope =

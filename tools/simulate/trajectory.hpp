@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "tools/simulate/motion.hpp"
 #include "tools/simulate/path.hpp"
@@ -19,6 +20,16 @@ struct Wobble {
   double pitch_deg = 0.5, pitch_period = 1.9;
   double yaw_deg = 0.8, yaw_period = 4.1;
 };
+
+// The floor under the path rises by `height` between two path distances (a staircase climbed
+// from s_begin to s_end; negative: walked down). Smooth in between, so the carrier's height
+// and its rate stay continuous.
+struct FloorRise {
+  double s_begin = 0.0, s_end = 0.0;  // metres along the path
+  double height = 0.0;                // metres
+};
+// The sum of every rise at path distance s.
+double FloorHeight(const std::vector<FloorRise>& rises, double s);
 
 struct MotionSpec {
   Path path;
@@ -41,6 +52,11 @@ struct MotionSpec {
   HandheldProfile handheld;
   LeggedProfile legged;
   WheeledProfile wheeled;
+  VehicleProfile vehicle;
+  // Staircases on the path (every carrier climbs them) and where a carrier that is not
+  // `constant` slows down.
+  std::vector<FloorRise> floor_rises;
+  std::vector<SpeedZone> slow_zones;
 };
 
 // The chosen carrier's parameters (Constant: none; returns the handheld ones).
