@@ -294,19 +294,7 @@ bool McapReader::NextInChunk(McapMessage& out) {
     } else if (opcode == mcap::kChannel) {
       AddChannel(data, length, content, where);
     } else if (opcode == mcap::kMessage) {
-      ByteCursor m(data, length, content, where);
-      out.channel_id = m.Read<std::uint16_t>("channel_id");
-      out.sequence = m.Read<std::uint32_t>("sequence");
-      out.log_time = m.Read<std::uint64_t>("log_time");
-      out.publish_time = m.Read<std::uint64_t>("publish_time");
-      out.data_offset = m.file_offset();
-      out.size = m.remaining();
-      out.data = m.Bytes(out.size, "data");
-      out.where = where;
-      if (!channels_.count(out.channel_id)) {
-        throw IoError(where + ": channel " + std::to_string(out.channel_id) +
-                      " has no Channel record");
-      }
+      ReadMessage(data, length, content, where, out);
       return true;
     }
   }
@@ -327,21 +315,26 @@ bool McapReader::Next(McapMessage& out) {
     } else if (opcode_ == mcap::kChunk) {
       OpenChunk();
     } else if (opcode_ == mcap::kMessage) {
-      ByteCursor m(record_.data(), record_.size(), content, where);
-      out.channel_id = m.Read<std::uint16_t>("channel_id");
-      out.sequence = m.Read<std::uint32_t>("sequence");
-      out.log_time = m.Read<std::uint64_t>("log_time");
-      out.publish_time = m.Read<std::uint64_t>("publish_time");
-      out.data_offset = m.file_offset();
-      out.size = m.remaining();
-      out.data = m.Bytes(out.size, "data");
-      out.where = where;
-      if (!channels_.count(out.channel_id)) {
-        throw IoError(where + ": channel " + std::to_string(out.channel_id) +
-                      " has no Channel record");
-      }
+      ReadMessage(record_.data(), record_.size(), content, where, out);
       return true;
     }
+  }
+}
+
+// A Message record's fields; its channel must have come before it.
+void McapReader::ReadMessage(const std::uint8_t* data, std::size_t size, std::uint64_t offset,
+                             const std::string& where, McapMessage& out) const {
+  ByteCursor m(data, size, offset, where);
+  out.channel_id = m.Read<std::uint16_t>("channel_id");
+  out.sequence = m.Read<std::uint32_t>("sequence");
+  out.log_time = m.Read<std::uint64_t>("log_time");
+  out.publish_time = m.Read<std::uint64_t>("publish_time");
+  out.data_offset = m.file_offset();
+  out.size = m.remaining();
+  out.data = m.Bytes(out.size, "data");
+  out.where = where;
+  if (!channels_.count(out.channel_id)) {
+    throw IoError(where + ": channel " + std::to_string(out.channel_id) + " has no Channel record");
   }
 }
 

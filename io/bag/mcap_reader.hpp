@@ -76,6 +76,8 @@ class McapReader {
   void ReadExactly(std::uint8_t* out, std::uint64_t n, std::uint64_t at, const std::string& what);
   bool NextInChunk(McapMessage& out);
   void OpenChunk();
+  void ReadMessage(const std::uint8_t* data, std::size_t size, std::uint64_t offset,
+                   const std::string& where, McapMessage& out) const;
   void AddSchema(const std::uint8_t* data, std::size_t size, std::uint64_t offset,
                  const std::string& where);
   void AddChannel(const std::uint8_t* data, std::size_t size, std::uint64_t offset,

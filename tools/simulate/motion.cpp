@@ -125,7 +125,9 @@ CarrierParams ToParams(const LeggedProfile& p) {
   return c;
 }
 
-CarrierParams ToParams(const WheeledProfile& p) {
+// Wheeled robots and vehicles drive piecewise target speeds with stops and a vibration.
+template <class Profile>
+CarrierParams PiecewiseSpeedParams(const Profile& p) {
   CarrierParams c;
   c.speed_min = p.speed_min;
   c.speed_max = p.speed_max;
@@ -147,25 +149,10 @@ CarrierParams ToParams(const WheeledProfile& p) {
   return c;
 }
 
+CarrierParams ToParams(const WheeledProfile& p) { return PiecewiseSpeedParams(p); }
+
 CarrierParams ToParams(const VehicleProfile& p) {
-  CarrierParams c;
-  c.speed_min = p.speed_min;
-  c.speed_max = p.speed_max;
-  c.speed_time_constant = 0.0;  // piecewise target speeds
-  c.hold_min = p.hold_min;
-  c.hold_max = p.hold_max;
-  c.accel = p.accel;
-  c.lateral_accel = p.lateral_accel;
-  c.stops_min = p.stops_min;
-  c.stops_max = p.stops_max;
-  c.stop_min = p.stop_min;
-  c.stop_max = p.stop_max;
-  c.shake_deg = p.vibration_deg;
-  c.shake_hz_min = p.vibration_hz_min;
-  c.shake_hz_max = p.vibration_hz_max;
-  c.shake_needs_motion = true;
-  c.vibration = p.vibration;
-  c.sensor_height = p.sensor_height;
+  CarrierParams c = PiecewiseSpeedParams(p);
   c.pitch_per_accel_deg = p.pitch_per_accel_deg;
   c.roll_per_lateral_accel_deg = p.roll_per_lateral_accel_deg;
   c.suspension_time_constant = p.suspension_time_constant;
