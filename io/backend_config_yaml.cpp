@@ -93,6 +93,9 @@ void ReadLoopClosing(Section s, BackendConfig& c) {
   s.Get("max_verifications_per_keyframe", c.max_verifications_per_keyframe);
   s.Get("proximity_radius", c.proximity_radius);
   s.Get("revisit_drop_distance", c.revisit_drop_distance);
+  s.Get("odometry_consistency_chi2", c.odometry_consistency_chi2);
+  s.Get("odometry_covariance_scale", c.odometry_covariance_scale);
+  s.Get("odometry_heading_drift", c.odometry_heading_drift);
   s.Get("loop_optimize_residual", c.loop_optimize_residual);
   s.Get("loop_translation_sigma", c.loop_translation_sigma);
   s.Get("loop_rotation_sigma", c.loop_rotation_sigma);
@@ -219,6 +222,9 @@ void ValidateBackendConfig(const backend::BackendParameters& config, const std::
   check.AtLeast(b.max_verifications_per_keyframe, 0, lc + "max_verifications_per_keyframe");
   check.NonNegative(b.proximity_radius, lc + "proximity_radius");
   check.NonNegative(b.revisit_drop_distance, lc + "revisit_drop_distance");  // 0: keep every cloud
+  check.NonNegative(b.odometry_consistency_chi2, lc + "odometry_consistency_chi2");  // 0: no test
+  check.Positive(b.odometry_covariance_scale, lc + "odometry_covariance_scale");
+  check.NonNegative(b.odometry_heading_drift, lc + "odometry_heading_drift");
   check.NonNegative(b.loop_optimize_residual, lc + "loop_optimize_residual");  // 0: always
   check.NonNegative(b.loop_translation_sigma, lc + "loop_translation_sigma");
   check.NonNegative(b.loop_rotation_sigma, lc + "loop_rotation_sigma");

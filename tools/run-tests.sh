@@ -91,5 +91,5 @@ if [ "${DAMMLOAM_SKIP_SANITIZERS:-0}" != "1" ]; then
   configure_tsan build-tsan
   cmake --build build-tsan -j"$BUILD_JOBS" --target dammloam_tests_tsan
   begin "tsan: tests"
-  ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan
+  ctest --test-dir build-tsan --output-on-failure -j"$JOBS" -L tsan -E "$TSAN_SINGLE_THREADED"
 fi

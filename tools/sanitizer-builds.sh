@@ -38,8 +38,12 @@ configure_ninja() {  # configure_ninja BUILD_DIR CMAKE_ARGS...
 # moving-class drive and the moving-points unit tests. The zigzag and outdoor drives and the
 # outdoor loop closure (40, 27 and 57 s under ASan) joined them when the test command passed 30
 # minutes: the corridor drives and the corridor-return loop run the same code. The 2 Hz corridor
-# (140 registrations at 2 Hz) runs the same search and hold as the 2 Hz swing test.
-ASAN_LONG_DRIVES='OdometryIntegration\.(MapSizeIsBoundedOnALongDrive|LongSparseCorridorDoesNotCollapseToStandstill|InterpolatedStartPosesFollowAHandHeldWalk|TheCorrespondenceGateFollowsTheSceneSize|PoseCovarianceGrowsAlongTheWeakAxisWhileItIsWeak|ZigzagCorridorIsTracked|OutdoorLoopIsTracked)|LoopClosure\.(LapsOverMappedGroundKeepPosesButNotClouds|OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops)|Relocalization\.TwentyRandomPosesInASavedMap|BenchStream\.ModesSeeTheSameScansOfAPresetPrefix|MovingClass\.LabelsAgreeWithTheSimulatorsTruth|TrackingHealthOnSequences\.SparseCorridorScansKeepUpWithTheWalk'
+# (140 registrations at 2 Hz) runs the same search and hold as the 2 Hz swing test. The two-floor
+# walk (245 keyframes, twice) runs the verifier and the consistency test of the unit tests.
+ASAN_LONG_DRIVES='OdometryIntegration\.(MapSizeIsBoundedOnALongDrive|LongSparseCorridorDoesNotCollapseToStandstill|InterpolatedStartPosesFollowAHandHeldWalk|TheCorrespondenceGateFollowsTheSceneSize|PoseCovarianceGrowsAlongTheWeakAxisWhileItIsWeak|ZigzagCorridorIsTracked|OutdoorLoopIsTracked)|LoopClosure\.(LapsOverMappedGroundKeepPosesButNotClouds|OutdoorLoopHalvesApeAndAcceptsOnlyTrueLoops|TwoFloorsAreNeverJoined)|Relocalization\.TwentyRandomPosesInASavedMap|BenchStream\.ModesSeeTheSameScansOfAPresetPrefix|MovingClass\.LabelsAgreeWithTheSimulatorsTruth|TrackingHealthOnSequences\.SparseCorridorScansKeepUpWithTheWalk'
+
+# Suites of the TSan areas that run on one thread only (TSan has nothing to find there).
+TSAN_SINGLE_THREADED='LoopClosure\.TwoFloorsAreNeverJoined'
 
 configure_clang() {  # configure_clang BUILD_DIR CMAKE_ARGS...
   local dir=$1

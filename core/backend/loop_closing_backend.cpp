@@ -1,15 +1,19 @@
 #include "core/backend/loop_closing_backend.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "core/backend/global_map.hpp"
+#include "core/backend/odometry_chain.hpp"
 #include "core/backend/point_to_plane_icp.hpp"
 #include "core/backend/reason_text.hpp"
 
 namespace dammloam::backend {
 
 namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 // A keyframe keeps the scan without its moving points: people and cars in its cloud would be
 // matched by loop verification at their old places and saved into the map as trails.
@@ -197,6 +201,10 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id, b
           config_.loop_translation_sigma * config_.loop_translation_sigma;
       covariance.diagonal().tail<3>().array() +=
           config_.loop_rotation_sigma * config_.loop_rotation_sigma;
+      if (!ConsistentWithOdometry(event, covariance)) {
+        events.push_back(std::move(event));
+        continue;
+      }
       graph_.AddLoopEdge(old.id, query.id, event.T_candidate_query, covariance);
       // A loop that agrees with the map stays out of the graph: it would correct nothing, and
       // the loops' registrations share a bias (a corridor seen from the other direction) that
@@ -220,6 +228,36 @@ std::vector<LoopEvent> LoopClosingBackend::DetectLoops(std::uint32_t query_id, b
     events.push_back(std::move(event));
   }
   return events;
+}
+
+bool LoopClosingBackend::ConsistentWithOdometry(LoopEvent& event,
+                                                const Matrix6d& loop_covariance) const {
+  if (config_.odometry_consistency_chi2 <= 0.0) return true;
+  const ChainNoise noise{config_.pose_graph.min_translation_sigma,
+                         config_.pose_graph.min_rotation_sigma, config_.odometry_heading_drift};
+  OdometryChain chain =
+      ComposeOdometryChain(keyframes_, event.candidate_keyframe, event.query_keyframe, noise);
+  chain.covariance *= config_.odometry_covariance_scale;
+  // Judged against the corrected map: loops accepted earlier have removed drift that the
+  // odometry chain still carries, and a look-alike place stays as far off there.
+  chain.T_from_to = keyframes_[event.candidate_keyframe].T_world_sensor.inverse() *
+                    keyframes_[event.query_keyframe].T_world_sensor;
+  event.odometry_chi2 = ConsistencyChi2(chain, event.T_candidate_query, loop_covariance);
+  event.odometry_chi2_bound = config_.odometry_consistency_chi2;
+  if (event.odometry_chi2 <= event.odometry_chi2_bound) return true;
+  const Eigen::Vector3d offset =
+      event.T_candidate_query.translation() - chain.T_from_to.translation();
+  const double turn = Eigen::AngleAxisd(chain.T_from_to.rotation().transpose() *
+                                        event.T_candidate_query.rotation()).angle();
+  const Eigen::Vector3d sigma = chain.covariance.diagonal().head<3>().cwiseSqrt();
+  const double turn_sigma = std::sqrt(chain.covariance.diagonal().tail<3>().maxCoeff());
+  event.accepted = false;
+  event.reason = ReasonText(
+      "inconsistent with odometry: chi2 %.1f > %.1f (offset %.2f, %.2f, %.2f m and %.2f deg from "
+      "odometry's relative pose; odometry sigma %.2f, %.2f, %.2f m, %.2f deg)",
+      event.odometry_chi2, event.odometry_chi2_bound, offset.x(), offset.y(), offset.z(),
+      turn * kRadToDeg, sigma.x(), sigma.y(), sigma.z(), turn_sigma * kRadToDeg);
+  return false;
 }
 
 bool LoopClosingBackend::DisagreesWithMap(LoopEvent& event) const {
@@ -246,7 +284,7 @@ void LoopClosingBackend::ReportCorrections(std::vector<LoopEvent>& events,
     event.correction_rad =
         Eigen::AngleAxisd(T_old.rotation().transpose() * T_new.rotation()).angle();
     event.reason += ReasonText(", query keyframe moved %.3f m, %.2f deg", event.correction_m,
-                           event.correction_rad * 180.0 / 3.14159265358979323846);
+                           event.correction_rad * kRadToDeg);
   }
 }
 

@@ -40,6 +40,18 @@ struct BackendConfig {
   // the saved map's loops. Going round mapped ground thus costs no solves and no edges, which
   // grow with the graph. 0: every accepted loop joins the graph and starts a solve.
   double loop_optimize_residual = 1.0;
+  // A loop whose registered relative position lies further than this (squared Mahalanobis
+  // distance, 3 degrees of freedom) from the corrected map's, under the loop's covariance plus
+  // the odometry chain's between its keyframes, is refused: a look-alike place (the floor
+  // below, the next aisle) that no drift odometry can have explains. 0: no such test.
+  double odometry_consistency_chi2 = 16.3;  // chi-square, 3 dof, 99.9 %
+  // Odometry edges' covariances (with the pose graph's floors) are multiplied by this in that
+  // test: the registration's covariance ignores correlated errors, and drift outgrows it.
+  double odometry_covariance_scale = 1.0;
+  // One sigma of a heading-rate bias of the odometry in that test (radians per metre, about the
+  // vertical): the part of heading drift that the scans' own covariances, summed as independent,
+  // leave out (1e-4: 0.57 deg per 100 m; a 1.5 km vehicle route drifted 0.38 deg per 100 m).
+  double odometry_heading_drift = 1e-4;
   // Added to every loop edge's registration covariance: what ICP's own does not model.
   double loop_translation_sigma = 0.05; // metres
   double loop_rotation_sigma = 0.01;    // radians
@@ -93,6 +105,9 @@ class LoopClosingBackend {
   void IntegrateKeyframe(PendingKeyframe pending);
   // `disagrees`: set when an accepted loop disagrees with the map (loop_optimize_residual).
   std::vector<LoopEvent> DetectLoops(std::uint32_t query_id, bool& disagrees);
+  // Refuses (with the reason) an accepted loop too far from odometry's relative pose for both
+  // uncertainties (odometry_consistency_chi2); fills its odometry_chi2 either way.
+  bool ConsistentWithOdometry(LoopEvent& event, const Matrix6d& loop_covariance) const;
   // Judges an accepted loop just added to the graph against the corrected map; true when it
   // should start a solve.
   bool DisagreesWithMap(LoopEvent& event) const;

@@ -28,6 +28,12 @@ struct LoopEvent {
   // Uncertainty of T_candidate_query in the pose graph's edge tangent (translation in the
   // candidate frame, then rotation): large along the directions the scene leaves free.
   Matrix6d covariance = Matrix6d::Identity();
+  // Squared Mahalanobis distance of the registered relative pose from odometry's under both
+  // uncertainties (the loop's and the odometry chain's between the keyframes), and the bound
+  // above which the loop is refused as inconsistent (BackendConfig::odometry_consistency_chi2).
+  // 0 for candidates the registration already refused.
+  double odometry_chi2 = 0.0;
+  double odometry_chi2_bound = 0.0;
   bool accepted = false;
   std::string reason;                    // "accepted" or why it was rejected
   // Accepted loops only. Squared whitened residual of the loop's edge at the corrected poses

@@ -4,10 +4,11 @@
 
 namespace dammloam::backend {
 
-// A loop event's reason with two numbers in it ("inlier ratio 0.48 below 0.60").
-inline std::string ReasonText(const char* fmt, double a, double b) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof(buffer), fmt, a, b);
+// A loop event's reason with numbers in it ("inlier ratio 0.48 below 0.60").
+template <typename... Numbers>
+std::string ReasonText(const char* fmt, Numbers... numbers) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof(buffer), fmt, static_cast<double>(numbers)...);
   return buffer;
 }
 

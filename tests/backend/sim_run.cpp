@@ -48,6 +48,8 @@ SimRun MakeSimRun(const sim::Simulator& simulator, int count, int stride,
       Eigen::Isometry3d step = run.truth.back().inverse() * truth;
       const double metres = step.translation().norm();
       step.translation() *= 1.0 + drift.scale_error;
+      const Eigen::Vector3d up = run.truth.back().rotation().transpose() * Eigen::Vector3d::UnitZ();
+      step.translation() -= drift.climb_loss * up.dot(step.translation()) * up;
       step.linear() = Eigen::AngleAxisd(drift.yaw_per_metre * metres, Eigen::Vector3d::UnitZ())
                           .toRotationMatrix() * step.linear();
       odom = odom * step;
@@ -56,7 +58,10 @@ SimRun MakeSimRun(const sim::Simulator& simulator, int count, int stride,
     r.stamp = simulator.ScanStartTime(index);
     r.scan_index = static_cast<std::uint64_t>(index);
     r.T_world_sensor = odom;
-    r.covariance = WorldCovariance(Matrix6d::Identity() * 1e-4, odom);
+    Vector6d sigma;
+    sigma << Eigen::Vector3d::Constant(drift.translation_sigma),
+        Eigen::Vector3d::Constant(drift.rotation_sigma);
+    r.covariance = WorldCovariance(sigma.cwiseAbs2().asDiagonal(), odom);
     r.deskewed_points = DeskewedScan(simulator, index);
     r.labels.assign(r.deskewed_points.size(), PointClass::Unknown);
     run.odometry.push_back(std::move(r));

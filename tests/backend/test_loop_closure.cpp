@@ -7,6 +7,7 @@
 
 #include "core/backend/loop_closing_backend.hpp"
 #include "tests/backend/sim_run.hpp"
+#include "tools/simulate/presets.hpp"
 
 namespace dammloam::backend {
 namespace {
@@ -315,6 +316,54 @@ TEST(LoopClosure, LoopsThatAgreeWithTheMapLeaveTheTrajectoryAlone) {
   EXPECT_GE(accepted, 5u);
   EXPECT_GT(agreeing * 4, accepted * 3);  // most loops agree and stay out of the graph
   EXPECT_LT(backend.NumOptimizations() * 5, accepted);
+}
+
+// Two identical floors 3 m apart: Scan Context and registration find a floor-2 place on the
+// floor below (the walls match at any height; only the stairwell doors differ). Odometry, which
+// climbed the stairs (here keeping 70 % of the climb, as the VLP-16 front end did), puts the
+// query a storey up, far outside the odometry chain's and the loop's uncertainty: refused.
+// Without that test the same walk accepts loops between the floors.
+TEST(LoopClosure, TwoFloorsAreNeverJoined) {
+  const auto preset = sim::FindPreset("two-floor");
+  ASSERT_TRUE(preset.has_value());
+  sim::SensorSpec sensor = test::TestSensor();  // 16 of its rings: a VLP-16's field of view
+  sensor.vertical_angles_deg = sim::UniformVerticalAngles(16, 15.0, -15.0);
+  const sim::Simulator simulator(*preset, sensor, 1);
+  const int stride = 10;  // 1 s between keyframes, ~1.3 m of walk
+  DriftModel drift{0.0005, 0.01};
+  drift.climb_loss = 0.3;
+  drift.translation_sigma = 0.01;
+  drift.rotation_sigma = 0.001;
+  const SimRun run = MakeSimRun(simulator, 245, stride, drift);
+  BackendConfig config;
+  config.scan_context.max_range = 30.0;  // indoor
+  config.scan_context.sensor_height = 1.4;
+  const auto count = [&](const Outcome& outcome, std::size_t& same_floor, std::size_t& between) {
+    same_floor = between = 0;
+    for (const LoopEvent& e : outcome.events) {
+      const Eigen::Isometry3d T_true = run.truth[e.candidate_scan_index / stride].inverse() *
+                                       run.truth[e.query_scan_index / stride];
+      const bool false_loop =
+          (T_true.translation() - e.T_candidate_query.translation()).norm() > 1.0;
+      if (e.accepted) (false_loop ? between : same_floor) += 1;
+      if (false_loop && !e.accepted && e.odometry_chi2 > e.odometry_chi2_bound) {
+        EXPECT_NE(e.reason.find("inconsistent with odometry"), std::string::npos) << e.reason;
+      }
+    }
+  };
+  LoopClosingBackend backend(config);
+  std::size_t same_floor = 0, between = 0;
+  count(RunBackendStepByStep(backend, run), same_floor, between);
+  config.odometry_consistency_chi2 = 0.0;
+  LoopClosingBackend untested(config);
+  std::size_t same_floor_untested = 0, between_untested = 0;
+  count(RunBackendStepByStep(untested, run), same_floor_untested, between_untested);
+  std::printf("two floors: %zu keyframes; loops accepted on one floor %zu, between floors %zu; "
+              "without the consistency test %zu and %zu\n",
+              backend.NumKeyframes(), same_floor, between, same_floor_untested, between_untested);
+  EXPECT_EQ(between, 0u);
+  EXPECT_GE(same_floor, 3u);
+  EXPECT_GT(between_untested, 0u) << "the walk no longer tests loops between floors";
 }
 
 TEST(LoopClosure, UnknownScanHasNoCorrectedPose) {

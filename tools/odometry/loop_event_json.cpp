@@ -24,6 +24,8 @@ std::string LoopEventJsonLine(const backend::LoopEvent& event) {
       {"T_candidate_query", {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}},
       {"accepted", event.accepted},
       {"reason", event.reason},
+      {"odometry_chi2", event.odometry_chi2},
+      {"odometry_chi2_bound", event.odometry_chi2_bound},
       {"map_chi2", event.map_chi2},
       {"map_chi2_bound", event.map_chi2_bound},
       {"started_optimization", event.started_optimization},
