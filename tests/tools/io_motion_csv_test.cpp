@@ -29,6 +29,8 @@ using test::WriteText;
   } while (false)
 
 constexpr const char* kImuHeader = "t,wx,wy,wz,ax,ay,az\n";
+// Eigen's `{}` leaves a vector uninitialized: spell zero out.
+const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
 
 TEST(MotionCsv, ImuRoundTripIsExact) {
   TempDir tmp;
@@ -66,9 +68,9 @@ TEST(MotionCsv, WheelRoundTripIsExact) {
 
 TEST(MotionCsv, WriterRefusesWhatAReaderWouldDrop) {
   TempDir tmp;
-  EXPECT_IO_ERROR(WriteImuCsv(tmp / "imu.csv", {{1.0, {}, {}}, {1.0, {}, {}}}), "imu.csv",
+  EXPECT_IO_ERROR(WriteImuCsv(tmp / "imu.csv", {{1.0, kZero, kZero}, {1.0, kZero, kZero}}), "imu.csv",
                   "sample 1", "not after");
-  ImuSample bad{2.0, {}, {}};
+  ImuSample bad{2.0, kZero, kZero};
   bad.linear_acceleration.z() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_IO_ERROR(WriteImuCsv(tmp / "imu.csv", {bad}), "imu.csv", "sample 0", "not finite");
 }
@@ -237,8 +239,8 @@ TEST(SequenceStreams, ReaderFindsThemAndOverwriteRemovesThem) {
     scan.rings = {0};
     writer.Write(scan);
     EXPECT_FALSE(SequenceReader::Open(tmp.path()).ReadImu());
-    writer.WriteImu({{5.0, {}, {0, 0, 9.81}}, {5.01, {}, {0, 0, 9.81}}});
-    writer.WriteWheel({{5.0, {0.5, 0, 0}, {}}});
+    writer.WriteImu({{5.0, kZero, {0, 0, 9.81}}, {5.01, kZero, {0, 0, 9.81}}});
+    writer.WriteWheel({{5.0, {0.5, 0, 0}, kZero}});
   }
   const SequenceReader reader = SequenceReader::Open(tmp.path());
   StreamReadReport report;
