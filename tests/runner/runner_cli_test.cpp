@@ -240,22 +240,24 @@ TEST_F(RunnerCli, ImuAndWheelStreamsAreReadButLeaveThePosesUnchanged) {
   options.num_scans = kFirstScan + kScans;
   const sim::Simulator simulator(sim::SceneKind::Outdoor, sim::Vlp16(), options);
   sim::InertialStreamOptions streams_options;
-  streams_options.imu.imu.time_offset = 0.0;
+  streams_options.imu.description.time_offset = 0.0;
   const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kFirstScan + kScans, streams_options);
   io::WriteImuCsv(tmp_ / "seq" / "imu.csv", *streams.imu);
   std::vector<WheelSample> wheel;
   for (const ImuSample& s : *streams.imu) wheel.push_back({s.t, {1.0, 0.0, 0.0}, Eigen::Vector3d::Zero()});
   io::WriteWheelCsv(tmp_ / "seq" / "wheel.csv", wheel);
-  std::ofstream(tmp_ / "seq" / "imu.csv", std::ios::app) << "1800000000,nan,0,0,0,0,9.81\n";
+  std::ofstream(tmp_ / "seq" / "imu.csv", std::ios::app) << "1800000000,nan,0,0,0,0,9.81\n"
+                                                         << "1800000001,0,0,0,0,0,9.81\n";
 
   const CommandResult with = RunOdometry(Sequence() + args + Path("with.tum"));
   ASSERT_EQ(with.exit_code, 0) << with.output;
-  EXPECT_NE(with.output.find("read " + std::to_string(streams.imu->size()) + " IMU samples, 100.0 Hz"),
+  EXPECT_NE(with.output.find("read " + std::to_string(streams.imu->size() + 1) + " IMU samples"),
             std::string::npos) << with.output;
   EXPECT_NE(with.output.find("the estimator does not use them yet"), std::string::npos) << with.output;
   EXPECT_NE(with.output.find("dropped 1: 1 NaN/inf value (first at line " +
                              std::to_string(streams.imu->size() + 2) + ": NaN/inf value)"),
             std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("a gap of 99999995.500 s after t 1700000005.500"), std::string::npos) << with.output;
   EXPECT_NE(with.output.find("wheel odometry samples"), std::string::npos) << with.output;
   EXPECT_NE(with.output.find("no \"imu_extrinsic\" in meta.json"), std::string::npos) << with.output;
   EXPECT_EQ(test::ReadText(tmp_ / "with.tum"), test::ReadText(tmp_ / "plain.tum"));

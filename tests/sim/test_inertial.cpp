@@ -60,9 +60,9 @@ void ExpectIntegrationReproducesTruth(const Trajectory& trajectory, double t, co
   const ImuSimOptions options = Noiseless(2000.0);
   const std::vector<ImuSample> samples = SimulateImu(pose, 0.0, t, t + 1.0, options, 1);
   ASSERT_EQ(samples.size(), 2001u);
-  const RigidMotion start = TrueImuAt(pose, options.imu.T_sensor_imu, t).imu_motion;
+  const RigidMotion start = TrueImuAt(pose, options.description.T_sensor_imu, t).imu_motion;
   const Eigen::Isometry3d integrated = Integrate(samples, start);
-  const Eigen::Isometry3d truth = pose(t + 1.0) * options.imu.T_sensor_imu;
+  const Eigen::Isometry3d truth = pose(t + 1.0) * options.description.T_sensor_imu;
   const double position_error = (integrated.translation() - truth.translation()).norm();
   const double angle_error =
       Eigen::AngleAxisd(Eigen::Matrix3d(integrated.linear().transpose() * truth.linear())).angle() * kRadToDeg;
@@ -138,8 +138,8 @@ TEST(Imu, NoiseHasTheStatedDensityAndIsDeterministicPerSeed) {
   ImuBiases bias;
   const std::vector<ImuSample> samples = SimulateImu(still, 100.0, 0.0, 300.0, options, 7, &bias);
   ASSERT_EQ(samples.size(), 30001u);
-  EXPECT_DOUBLE_EQ(samples.front().t, 100.0 + options.imu.time_offset);
-  EXPECT_DOUBLE_EQ(samples.back().t, 400.0 + options.imu.time_offset);
+  EXPECT_DOUBLE_EQ(samples.front().t, 100.0 + options.description.time_offset);
+  EXPECT_DOUBLE_EQ(samples.back().t, 400.0 + options.description.time_offset);
   Eigen::Array3d gyro_sq = Eigen::Array3d::Zero(), accel_sq = Eigen::Array3d::Zero();
   for (std::size_t k = 1; k < samples.size(); ++k) {
     gyro_sq += (samples[k].angular_velocity - samples[k - 1].angular_velocity).array().square();
@@ -147,8 +147,8 @@ TEST(Imu, NoiseHasTheStatedDensityAndIsDeterministicPerSeed) {
   }
   const double n = static_cast<double>(samples.size() - 1);
   const Eigen::Array3d gyro_sigma = (gyro_sq / (2.0 * n)).sqrt(), accel_sigma = (accel_sq / (2.0 * n)).sqrt();
-  const double gyro_expected = options.imu.noise.gyro_noise_density * 10.0;  // * sqrt(100 Hz)
-  const double accel_expected = options.imu.noise.accel_noise_density * 10.0;
+  const double gyro_expected = options.description.noise.gyro_noise_density * 10.0;  // * sqrt(100 Hz)
+  const double accel_expected = options.description.noise.accel_noise_density * 10.0;
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(gyro_sigma[i] / gyro_expected, 1.0, 0.03) << i;
     EXPECT_NEAR(accel_sigma[i] / accel_expected, 1.0, 0.03) << i;

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "io/motion_csv.hpp"
@@ -25,6 +26,18 @@ void LogStream(const fs::path& file, const std::vector<Sample>& samples, const i
                  samples.front().t, samples.back().t);
   }
   if (report.dropped() > 0) spdlog::warn("{}: {}", file.string(), report.Summary());
+  // A gap (a stalled driver, lost packets) is no parse error but the estimator must know of it.
+  if (samples.size() >= 3) {
+    std::vector<double> steps;
+    for (std::size_t k = 1; k < samples.size(); ++k) steps.push_back(samples[k].t - samples[k - 1].t);
+    const auto largest = std::max_element(steps.begin(), steps.end());
+    const double median = Median(steps);
+    if (*largest > 3.0 * median) {
+      const auto at = static_cast<std::size_t>(largest - steps.begin());
+      spdlog::warn("{}: a gap of {:.3f} s after t {:.3f} ({:.0f} sample periods)", file.string(), *largest,
+                   samples[at].t, *largest / median);
+    }
+  }
 }
 
 }  // namespace

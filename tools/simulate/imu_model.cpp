@@ -36,7 +36,7 @@ std::vector<ImuSample> SimulateImu(const PoseOfTime& pose, double clock_zero, do
     throw std::invalid_argument("IMU rate must be in (0, 10000] Hz, got " + std::to_string(options.rate_hz));
   }
   const double dt = 1.0 / options.rate_hz;
-  const ImuNoise& noise = options.imu.noise;
+  const ImuNoise& noise = options.description.noise;
   const bool noisy = !options.noiseless;
   // Discrete white noise: sigma = density * sqrt(rate); random walk step: density * sqrt(dt).
   const double gyro_sigma = noise.gyro_noise_density * std::sqrt(options.rate_hz);
@@ -50,14 +50,14 @@ std::vector<ImuSample> SimulateImu(const PoseOfTime& pose, double clock_zero, do
     bias.accel = GaussianVector(rng, options.accel_turn_on_bias);
   }
   if (turn_on) *turn_on = bias;
-  const double offset = noisy ? options.imu.time_offset : 0.0;
+  const double offset = noisy ? options.description.time_offset : 0.0;
 
   std::vector<ImuSample> samples;
   const auto count = static_cast<std::size_t>(std::floor((t_end - t_begin) * options.rate_hz + 1e-9)) + 1;
   samples.reserve(t_end >= t_begin ? count : 0);
   for (std::size_t k = 0; t_end >= t_begin && k < count; ++k) {
     const double t = t_begin + static_cast<double>(k) * dt;
-    const ImuTruth truth = TrueImuAt(pose, options.imu.T_sensor_imu, t);
+    const ImuTruth truth = TrueImuAt(pose, options.description.T_sensor_imu, t);
     ImuSample sample;
     sample.t = clock_zero + t + offset;
     sample.angular_velocity = truth.angular_velocity;

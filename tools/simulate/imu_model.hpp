@@ -19,7 +19,7 @@ struct ImuSimOptions {
   double rate_hz = 100.0;  // the Ouster OS1's IMU rate
   // Extrinsic (default: the OS1's imu_to_sensor_transform), noise densities (ICM-20948) and
   // clock offset: stamp = LiDAR-clock time of the measurement + time_offset.
-  ImuDescription imu{OusterOs1ImuToSensor(), ImuNoise{}, 0.003};
+  ImuDescription description{OusterOs1ImuToSensor(), ImuNoise{}, 0.003};
   // Turn-on bias, standard deviation per axis, drawn once per run. The datasheet bounds the
   // untrimmed part at +-5 deg/s and +-25 mg (component level); a turned-on, trimmed unit is
   // much closer: 0.3 deg/s and 10 mg.

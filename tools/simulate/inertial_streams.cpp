@@ -42,7 +42,7 @@ std::string StreamsSummary(const InertialStreams& streams) {
     std::snprintf(text, sizeof text,
                   "imu.csv: %zu samples at %.0f Hz, clock offset %.4f s, turn-on bias gyro "
                   "%.4f %.4f %.4f rad/s accel %.4f %.4f %.4f m/s^2",
-                  streams.imu->size(), streams.imu_options.rate_hz, streams.imu_options.imu.time_offset,
+                  streams.imu->size(), streams.imu_options.rate_hz, streams.imu_options.description.time_offset,
                   b.gyro.x(), b.gyro.y(), b.gyro.z(), b.accel.x(), b.accel.y(), b.accel.z());
     out += text;
   } else {

@@ -152,9 +152,9 @@ int Run(const Args& a) {
   io::SequenceMeta meta{spec.name, simulator.sensor_model(), io::PointLayout::kXYZITR};
   const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, scans, a.streams);
   if (streams.imu) {
-    meta.T_sensor_imu = streams.imu_options.imu.T_sensor_imu;
-    meta.imu_noise = streams.imu_options.imu.noise;
-    meta.imu_time_offset = streams.imu_options.imu.time_offset;
+    meta.T_sensor_imu = streams.imu_options.description.T_sensor_imu;
+    meta.imu_noise = streams.imu_options.description.noise;
+    meta.imu_time_offset = streams.imu_options.description.time_offset;
   }
   if (streams.wheel) meta.T_sensor_base = streams.T_sensor_base;
   io::SequenceWriter writer(a.out, meta, a.overwrite);
@@ -287,7 +287,7 @@ int main(int argc, char** argv) {
                "Do not write wheel.csv (written by default for the wheeled and vehicle carriers)");
   app.add_option("--imu-rate", a.streams.imu.rate_hz, "IMU rate, Hz (the OS1's: 100)")
       ->check(CLI::Range(1.0, 2000.0))->capture_default_str();
-  app.add_option("--imu-time-offset", a.streams.imu.imu.time_offset,
+  app.add_option("--imu-time-offset", a.streams.imu.description.time_offset,
                  "IMU stamp minus the LiDAR-clock time of its measurement, seconds")
       ->check(CLI::Range(-0.5, 0.5))->capture_default_str();
   app.add_option("--wheel-rate", a.streams.wheel.rate_hz, "Wheel odometry rate, Hz")
