@@ -27,10 +27,10 @@ struct SequenceMeta {
   // "imu": noise densities, bias random walks, time offset (absent keys keep ImuNoise's
   // defaults); "base_extrinsic": {"T_sensor_base": ...}. Each transform is {"translation": [3],
   // "quaternion_xyzw": [4]} with p_sensor = R p_other + translation.
-  std::optional<Eigen::Isometry3d> T_sensor_imu;
-  std::optional<ImuNoise> imu_noise;
+  std::optional<Eigen::Isometry3d> T_sensor_imu = std::nullopt;
+  std::optional<ImuNoise> imu_noise = std::nullopt;
   double imu_time_offset = 0.0;  // "imu": {"time_offset_s"}: see ImuDescription::time_offset
-  std::optional<Eigen::Isometry3d> T_sensor_base;
+  std::optional<Eigen::Isometry3d> T_sensor_base = std::nullopt;
 };
 
 // What is assumed about a KITTI folder that carries no meta.json: an HDL-64E-like sensor.
