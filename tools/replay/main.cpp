@@ -83,6 +83,17 @@ class InertialPublisher {
       wheel_writer_->Write(dds::ToWheelMessage((*wheel_)[next_wheel_], 0.01, 0.005, base_frame_, next_wheel_));
     }
   }
+  // A volatile sample written before a reader matched is lost: give subscribers of the
+  // streams time to appear, once, after dammloamd's cloud reader did (dammloamd itself does
+  // not subscribe to them yet, so this does not wait for it).
+  void WaitForReaders(std::chrono::milliseconds timeout) const {
+    if (imu_writer_ && !imu_writer_->WaitForReaders(1, timeout)) {
+      spdlog::info("no subscriber on '{}' yet: publishing the IMU samples anyway", imu_writer_->topic_name());
+    }
+    if (wheel_writer_ && !wheel_writer_->WaitForReaders(1, timeout)) {
+      spdlog::info("no subscriber on '{}' yet: publishing the wheel odometry anyway", wheel_writer_->topic_name());
+    }
+  }
   void WaitForAcks() const {
     if (imu_writer_) dds_wait_for_acks(imu_writer_->handle(), DDS_SECS(5));
     if (wheel_writer_) dds_wait_for_acks(wheel_writer_->handle(), DDS_SECS(5));
@@ -149,6 +160,7 @@ int Run(const Options& o) {
                   "the same CYCLONEDDS_URI and domain?", o.topic, o.domain, o.wait_subscriber);
     return 3;
   }
+  inertial.WaitForReaders(std::chrono::milliseconds(1000));
   if (o.lockstep && odometry_reader.MatchedWriters() == 0) {
     // The daemon's Odometry writer appears together with its PointCloud reader; give discovery
     // the same time budget.
