@@ -44,8 +44,14 @@ Received Replay(const std::filesystem::path& seq, const std::vector<std::string>
   ChildProcess replay("dammloam-replay", all, log);
   Received got;
   const auto take = [&] {
-    imu_reader.TakeEach([&](const dammloam_msg_Imu& m, const dds_sample_info_t&) { got.imu.push_back(dds::FromImuMessage(m)); }, 256);
-    wheel_reader.TakeEach([&](const dammloam_msg_WheelOdometry& m, const dds_sample_info_t&) { got.wheel.push_back(dds::FromWheelMessage(m)); }, 256);
+    imu_reader.TakeEach(
+        [&](const dammloam_msg_Imu& m, const dds_sample_info_t&) { got.imu.push_back(dds::FromImuMessage(m)); },
+        256);
+    wheel_reader.TakeEach(
+        [&](const dammloam_msg_WheelOdometry& m, const dds_sample_info_t&) {
+          got.wheel.push_back(dds::FromWheelMessage(m));
+        },
+        256);
     got.clouds += cloud_reader.TakeEach([](const dammloam_msg_PointCloud&, const dds_sample_info_t&) {});
   };
   std::optional<int> code;

@@ -3,7 +3,8 @@
 // INPUT: sequence directory, KITTI folder, rosbag2 directory or .mcap file.
 //     [--backend-config backend.yaml] [--map map.pcd]
 //     [--stats stats.csv] [--max-scans N] [--quiet]
-//     [--no-loop-closure] [--no-imu] [--no-wheel] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
+//     [--no-loop-closure] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
+//     [--no-imu] [--no-wheel]
 // dammloam-odometry SEQUENCE_DIR --out poses.tum --load-map DIR --localize
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>

@@ -80,7 +80,8 @@ class InertialPublisher {
     }
     for (; wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t < t; ++next_wheel_) {
       // The simulator's wheel noise (tools/simulate/wheel_model.hpp); real odometry brings its own.
-      wheel_writer_->Write(dds::ToWheelMessage((*wheel_)[next_wheel_], 0.01, 0.005, base_frame_, next_wheel_));
+      wheel_writer_->Write(
+          dds::ToWheelMessage((*wheel_)[next_wheel_], 0.01, 0.005, base_frame_, next_wheel_));
     }
   }
   // A volatile sample written before a reader matched is lost: give subscribers of the
