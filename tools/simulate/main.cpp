@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "io/sequence_io.hpp"
-#include "tools/simulate/inertial_streams.hpp"
+#include "tools/simulate/inertial_meta.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -151,12 +151,7 @@ int Run(const Args& a) {
 
   io::SequenceMeta meta{spec.name, simulator.sensor_model(), io::PointLayout::kXYZITR};
   const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, scans, a.streams);
-  if (streams.imu) {
-    meta.T_sensor_imu = streams.imu_options.description.T_sensor_imu;
-    meta.imu_noise = streams.imu_options.description.noise;
-    meta.imu_time_offset = streams.imu_options.description.time_offset;
-  }
-  if (streams.wheel) meta.T_sensor_base = streams.T_sensor_base;
+  sim::DescribeStreams(streams, &meta);
   io::SequenceWriter writer(a.out, meta, a.overwrite);
   if (streams.imu) writer.WriteImu(*streams.imu);
   if (streams.wheel) writer.WriteWheel(*streams.wheel);
