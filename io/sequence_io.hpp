@@ -6,12 +6,13 @@
 
 #include "core/geometry/scan.hpp"
 #include "io/io_error.hpp"
+#include "io/motion_csv.hpp"
 #include "io/scan_file.hpp"
 #include "io/sequence_meta.hpp"
 #include "io/tum.hpp"
 
 // Sequence directories (/work/shared/formats/sequence.md):
-//   scans/NNNNNN.bin, times.txt, meta.json, optional gt.tum
+//   scans/NNNNNN.bin, times.txt, meta.json, optional gt.tum, imu.csv, wheel.csv
 // and KITTI odometry folders (velodyne/NNNNNN.bin or NNNNNN.bin directly, xyzi, optional
 // times.txt, no meta.json).
 namespace dammloam::io {
@@ -41,6 +42,14 @@ class SequenceReader {
   // gt.tum if present, nullopt otherwise; IoError if present but malformed.
   std::optional<std::vector<StampedPose>> ReadGroundTruth() const;
 
+  // imu.csv / wheel.csv if present, nullopt otherwise. A malformed file is an IoError; unusable
+  // samples (NaN/inf, repeated or backward stamps) are dropped and counted in `report` unless
+  // options.strict (motion_csv.hpp). Stamps as in the file (meta().imu_time_offset not applied).
+  std::optional<std::vector<ImuSample>> ReadImu(StreamReadReport* report = nullptr,
+                                                const StreamReadOptions& options = {}) const;
+  std::optional<std::vector<WheelSample>> ReadWheel(StreamReadReport* report = nullptr,
+                                                    const StreamReadOptions& options = {}) const;
+
  private:
   SequenceReader() = default;
 
@@ -54,14 +63,17 @@ class SequenceReader {
 class SequenceWriter {
  public:
   // Creates dir/scans and writes dir/meta.json. Refuses (IoError) to write into a directory that
-  // already holds scans unless overwrite is set, in which case the old scans, times.txt and gt.tum
-  // are removed first.
+  // already holds scans unless overwrite is set, in which case the old scans, times.txt, gt.tum,
+  // imu.csv and wheel.csv are removed first.
   SequenceWriter(const std::filesystem::path& dir, const SequenceMeta& meta,
                  bool overwrite = false);
 
   // Writes scans/<next index>.bin and appends scan.t_start to times.txt (must be increasing).
   void Write(const Scan& scan);
   void WriteGroundTruth(const std::vector<StampedPose>& poses);
+  // imu.csv / wheel.csv (meta.json's extrinsics come with the SequenceMeta given above).
+  void WriteImu(const std::vector<ImuSample>& samples);
+  void WriteWheel(const std::vector<WheelSample>& samples);
   std::size_t size() const { return count_; }
   const std::filesystem::path& dir() const { return dir_; }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/io_error.hpp"
+#include "io/meta_inertial.hpp"
 
 namespace dammloam::io {
 namespace {
@@ -104,11 +105,12 @@ SequenceMeta ReadMeta(const std::filesystem::path& meta_json) {
     Fail(meta_json, "keys \"min_range\"/\"max_range\" must satisfy 0 <= min_range < max_range");
   }
   if (root.contains("point_layout")) meta.layout = ParseLayout(root["point_layout"], meta_json);
+  ReadInertialKeys(root, meta_json, &meta);
   return meta;
 }
 
 void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta) {
-  const json root = {
+  json root = {
       {"sensor", meta.sensor},
       {"rings", meta.model.rings},
       {"columns", meta.model.columns},
@@ -118,6 +120,7 @@ void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta)
       {"max_range", meta.model.max_range},
       {"point_layout", std::string(LayoutName(meta.layout))},
   };
+  WriteInertialKeys(meta, &root);
   std::ofstream out(meta_json);
   out << root.dump(2) << '\n';
   if (!out) Fail(meta_json, "cannot write");

@@ -1,10 +1,12 @@
 #pragma once
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "core/geometry/scan.hpp"
+#include "core/inertial/inertial_config.hpp"
 
 namespace dammloam::io {
 
@@ -21,6 +23,14 @@ struct SequenceMeta {
   std::string sensor;
   SensorModel model;
   PointLayout layout = PointLayout::kXYZITR;
+  // Optional, for imu.csv / wheel.csv (sequence.md). "imu_extrinsic": {"T_sensor_imu": ...};
+  // "imu": noise densities, bias random walks, time offset (absent keys keep ImuNoise's
+  // defaults); "base_extrinsic": {"T_sensor_base": ...}. Each transform is {"translation": [3],
+  // "quaternion_xyzw": [4]} with p_sensor = R p_other + translation.
+  std::optional<Eigen::Isometry3d> T_sensor_imu = std::nullopt;
+  std::optional<ImuNoise> imu_noise = std::nullopt;
+  double imu_time_offset = 0.0;  // "imu": {"time_offset_s"}: see ImuDescription::time_offset
+  std::optional<Eigen::Isometry3d> T_sensor_base = std::nullopt;
 };
 
 // What is assumed about a KITTI folder that carries no meta.json: an HDL-64E-like sensor.
@@ -28,7 +38,8 @@ SequenceMeta KittiMeta();
 
 // Required keys: sensor, rings, columns, scan_period. Optional: vertical_angles_deg (absent or
 // empty = unknown, otherwise exactly `rings` values), min_range, max_range, point_layout
-// ("xyzitr" default or "xyzi"). Unknown keys are ignored. Throws IoError naming file and key.
+// ("xyzitr" default or "xyzi"), the IMU and wheel keys above. Unknown keys are ignored.
+// Throws IoError naming file and key.
 SequenceMeta ReadMeta(const std::filesystem::path& meta_json);
 void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta);
 

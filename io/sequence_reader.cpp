@@ -123,4 +123,18 @@ std::optional<std::vector<StampedPose>> SequenceReader::ReadGroundTruth() const 
   return ReadTum(gt);
 }
 
+std::optional<std::vector<ImuSample>> SequenceReader::ReadImu(StreamReadReport* report,
+                                                              const StreamReadOptions& options) const {
+  const fs::path file = dir_ / "imu.csv";
+  if (!fs::exists(file)) return std::nullopt;
+  return ReadImuCsv(file, report, options);
+}
+
+std::optional<std::vector<WheelSample>> SequenceReader::ReadWheel(StreamReadReport* report,
+                                                                  const StreamReadOptions& options) const {
+  const fs::path file = dir_ / "wheel.csv";
+  if (!fs::exists(file)) return std::nullopt;
+  return ReadWheelCsv(file, report, options);
+}
+
 }  // namespace dammloam::io

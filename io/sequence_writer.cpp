@@ -28,7 +28,7 @@ void PrepareScanDir(const fs::path& dir, bool overwrite) {
     }
     fs::remove(entry.path());
   }
-  fs::remove(dir / "gt.tum");
+  for (const char* optional : {"gt.tum", "imu.csv", "wheel.csv"}) fs::remove(dir / optional);
   std::ofstream truncate(dir / "times.txt", std::ios::trunc);
   if (!truncate) throw IoError((dir / "times.txt").string() + ": cannot create");
 }
@@ -55,6 +55,14 @@ void SequenceWriter::Write(const Scan& scan) {
 
 void SequenceWriter::WriteGroundTruth(const std::vector<StampedPose>& poses) {
   WriteTum(dir_ / "gt.tum", poses);
+}
+
+void SequenceWriter::WriteImu(const std::vector<ImuSample>& samples) {
+  WriteImuCsv(dir_ / "imu.csv", samples);
+}
+
+void SequenceWriter::WriteWheel(const std::vector<WheelSample>& samples) {
+  WriteWheelCsv(dir_ / "wheel.csv", samples);
 }
 
 }  // namespace dammloam::io

@@ -14,6 +14,8 @@ struct TopicNames {
   std::string status = "dammloam_status";                  // Status out
   std::string command = "dammloam_command";                // Command in
   std::string command_reply = "dammloam_command_reply";    // CommandReply out
+  std::string imu = "dammloam_imu";                        // Imu in (issue 55)
+  std::string wheel_odometry = "dammloam_wheel_odometry";  // WheelOdometry in (issue 55)
 };
 
 // Reliable everywhere: a reliable writer also serves best-effort readers (not the reverse).
@@ -27,6 +29,9 @@ inline TopicQos LabelledCloudQos(int depth = 2) { return {true, depth, false}; }
 inline TopicQos LoopClosureQos(int depth = 100) { return {true, depth, true}; }
 inline TopicQos StatusQos(int depth = 1) { return {true, depth, true}; }
 inline TopicQos CommandQos(int depth = 10) { return {true, depth, false}; }
+// IMU at 100-200 Hz: room for a second of samples if the reader falls behind briefly.
+inline TopicQos ImuQos(int depth = 200) { return {true, depth, false}; }
+inline TopicQos WheelOdometryQos(int depth = 100) { return {true, depth, false}; }
 // Replies are latched so a commander whose reader matched late still gets its answer.
 inline TopicQos CommandReplyQos(int depth = 10) { return {true, depth, true}; }
 

@@ -12,6 +12,7 @@
 #include "tests/support/text_file.hpp"
 #include "io/sequence_io.hpp"
 #include "io/mapstore/map_store.hpp"
+#include "tools/simulate/inertial_streams.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace dammloam {
@@ -224,6 +225,55 @@ TEST_F(RunnerCli, RefusesToSaveTheMapOverSomethingElse) {
   EXPECT_FALSE(std::filesystem::exists(tmp_ / "corrected.tum"));
   // --localize without a map is a usage error.
   EXPECT_NE(RunOdometry(Sequence() + " --localize --out " + Path("x.tum")).exit_code, 0);
+}
+
+// imu.csv and wheel.csv are read, counted and logged (a NaN sample dropped with its reason), but
+// the estimator does not use them yet: the poses are byte for byte those without them, and
+// --no-imu / --no-wheel ignore them.
+TEST_F(RunnerCli, ImuAndWheelStreamsAreReadButLeaveThePosesUnchanged) {
+  const std::string args = " --no-loop-closure --max-scans 8 --out ";
+  const CommandResult plain = RunOdometry(Sequence() + args + Path("plain.tum"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("imu.csv"), std::string::npos) << plain.output;
+
+  sim::SimOptions options;
+  options.num_scans = kFirstScan + kScans;
+  const sim::Simulator simulator(sim::SceneKind::Outdoor, sim::Vlp16(), options);
+  sim::InertialStreamOptions streams_options;
+  streams_options.imu.description.time_offset = 0.0;
+  const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kFirstScan + kScans, streams_options);
+  io::WriteImuCsv(tmp_ / "seq" / "imu.csv", *streams.imu);
+  std::vector<WheelSample> wheel;
+  for (const ImuSample& s : *streams.imu) wheel.push_back({s.t, {1.0, 0.0, 0.0}, Eigen::Vector3d::Zero()});
+  io::WriteWheelCsv(tmp_ / "seq" / "wheel.csv", wheel);
+  std::ofstream(tmp_ / "seq" / "imu.csv", std::ios::app) << "1800000000,nan,0,0,0,0,9.81\n"
+                                                         << "1800000001,0,0,0,0,0,9.81\n";
+
+  const CommandResult with = RunOdometry(Sequence() + args + Path("with.tum"));
+  ASSERT_EQ(with.exit_code, 0) << with.output;
+  EXPECT_NE(with.output.find("read " + std::to_string(streams.imu->size() + 1) + " IMU samples"),
+            std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("the estimator does not use them yet"), std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("dropped 1: 1 NaN/inf value (first at line " +
+                             std::to_string(streams.imu->size() + 2) + ": NaN/inf value)"),
+            std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("a gap of 99999995.500 s after t 1700000005.500"), std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("wheel odometry samples"), std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("no \"imu_extrinsic\" in meta.json"), std::string::npos) << with.output;
+  EXPECT_EQ(test::ReadText(tmp_ / "with.tum"), test::ReadText(tmp_ / "plain.tum"));
+
+  const CommandResult ignored = RunOdometry(Sequence() + args + Path("ignored.tum") + " --no-imu --no-wheel");
+  ASSERT_EQ(ignored.exit_code, 0) << ignored.output;
+  EXPECT_NE(ignored.output.find("ignored (--no-imu)"), std::string::npos) << ignored.output;
+  EXPECT_NE(ignored.output.find("ignored (--no-wheel)"), std::string::npos) << ignored.output;
+  EXPECT_EQ(ignored.output.find("IMU samples"), std::string::npos) << ignored.output;
+  EXPECT_EQ(test::ReadText(tmp_ / "ignored.tum"), test::ReadText(tmp_ / "plain.tum"));
+
+  // A malformed file stops the run with file and line, before any scan.
+  test::WriteText(tmp_ / "seq" / "wheel.csv", "t,vx,vy,vz,wx,wy,wz\n1,2,3\n");
+  const CommandResult broken = RunOdometry(Sequence() + args + Path("broken.tum"));
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.output.find("wheel.csv:2: has 3 fields, expected 7"), std::string::npos) << broken.output;
 }
 
 }  // namespace

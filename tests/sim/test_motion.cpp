@@ -293,7 +293,8 @@ TEST(Presets, NamesAndDefaults) {
                                              "handheld-campus",          "wheeled-zigzag",
                                              "handheld-corridor-people", "wheeled-zigzag-people",
                                              "campus-crowd",             "follow-me",
-                                             "handheld-look-around",     "campus-long-handheld",
+                                             "handheld-look-around",     "handheld-aggressive",
+                                             "wheeled-endless",          "campus-long-handheld",
                                              "campus-long-vehicle",      "two-floor",
                                              "warehouse-aisles"};
   EXPECT_EQ(PresetNames(), expected);

@@ -29,6 +29,7 @@
 #include "io/config_yaml.hpp"
 #include "io/process_memory.hpp"
 #include "io/sequence_io.hpp"
+#include "tools/simulate/inertial_meta.hpp"
 #include "tools/simulate/presets.hpp"
 
 extern char** environ;
@@ -395,9 +396,13 @@ GroupResult RunGroup(const Options& o, const Group& g, const std::vector<Odometr
       simulator = MakeSimulator(g, seed);
       stream = bench::SimulatedStream(*simulator, g.scans);
       if (!sequence_dir.empty()) {
-        writer = std::make_unique<io::SequenceWriter>(
-            sequence_dir, io::SequenceMeta{g.sensor.name, stream.model, io::PointLayout::kXYZITR},
-            /*overwrite=*/true);
+        // imu.csv / wheel.csv beside the scans, as dammloam-simulate writes them (issue 55).
+        io::SequenceMeta meta{g.sensor.name, stream.model, io::PointLayout::kXYZITR};
+        const sim::InertialStreams streams = sim::SimulateInertialStreams(*simulator, g.scans, {});
+        sim::DescribeStreams(streams, &meta);
+        writer = std::make_unique<io::SequenceWriter>(sequence_dir, meta, /*overwrite=*/true);
+        if (streams.imu) writer->WriteImu(*streams.imu);
+        if (streams.wheel) writer->WriteWheel(*streams.wheel);
       }
     }
     // Time spent producing scans (simulating or reading) = wall time minus the pipelines'.

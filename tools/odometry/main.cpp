@@ -4,6 +4,7 @@
 //     [--backend-config backend.yaml] [--map map.pcd]
 //     [--stats stats.csv] [--max-scans N] [--quiet]
 //     [--no-loop-closure] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
+//     [--no-imu] [--no-wheel]
 // dammloam-odometry SEQUENCE_DIR --out poses.tum --load-map DIR --localize
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
   app.add_option("--stats", o.stats, "write per-scan odometry statistics CSV");
   app.add_option("--max-scans", o.max_scans, "process at most N scans");
   app.add_flag("--quiet", o.quiet, "no progress, warnings or summary");
+  app.add_flag("--no-imu", o.no_imu, "ignore the sequence's imu.csv");
+  app.add_flag("--no-wheel", o.no_wheel, "ignore the sequence's wheel.csv");
   auto* no_lc = app.add_flag("--no-loop-closure", no_loop_closure,
                              "odometry only: no loop detection or pose-graph correction");
   app.add_option("--odometry-out", o.odometry_out, "also write the raw odometry trajectory (TUM)");

@@ -14,6 +14,7 @@
 #include "io/pcd/labelled_pcd.hpp"
 #include "io/bag/scan_source.hpp"
 #include "io/mapstore/map_store.hpp"
+#include "tools/odometry/inertial_input.hpp"
 #include "tools/odometry/loop_event_json.hpp"
 #include "tools/odometry/mcap_output.hpp"
 #include "tools/odometry/runner.hpp"
@@ -92,6 +93,8 @@ int RunMapping(const RunnerOptions& o) {
       o.backend_config.empty() ? backend::BackendParameters{}
                                : io::LoadBackendConfig(o.backend_config);
   const std::size_t n = ScansToRun(*source, o.max_scans);
+  // Read and checked, not used yet: the estimator's IMU / wheel prior will take them from here.
+  const InertialInput inertial = ReadInertialInput(o);
 
   OdometryPipeline pipeline(config, source->model());
   // Without loop closure the back-end is only needed to build a map for --save-map; it then

@@ -28,6 +28,7 @@ struct RunnerOptions {
   bool loop_closure = true;
   bool localize = false;
   bool quiet = false;
+  bool no_imu = false, no_wheel = false;  // ignore the sequence's imu.csv / wheel.csv
 };
 
 // Odometry over the sequence, with the loop-closing back-end unless disabled: --out holds the

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/sequence_io.hpp"
+#include "tools/simulate/inertial_meta.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -33,6 +34,7 @@ struct Args {
   std::optional<double> vfov_up, vfov_down, min_range, max_range;
   std::vector<double> vertical_angles;
   bool overwrite = false;
+  sim::InertialStreamOptions streams;
 };
 
 // The named sensor with the command-line geometry overrides applied.
@@ -116,6 +118,7 @@ int Run(const Args& a) {
     options.noise_sigma = planned.noise_sigma;
     options.full_range_reflectivity = planned.full_range_reflectivity;
     options.actors = planned.actors;
+    options.handheld_profile = planned.handheld_profile;
     scans = a.scans.value_or(preset.scans);
   } else {
     if (a.scene.empty()) throw std::invalid_argument("--scene or --preset is required");
@@ -146,9 +149,12 @@ int Run(const Args& a) {
   const double setup_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setup_start).count();
 
-  io::SequenceWriter writer(a.out, io::SequenceMeta{spec.name, simulator.sensor_model(),
-                                                    io::PointLayout::kXYZITR},
-                            a.overwrite);
+  io::SequenceMeta meta{spec.name, simulator.sensor_model(), io::PointLayout::kXYZITR};
+  const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, scans, a.streams);
+  sim::DescribeStreams(streams, &meta);
+  io::SequenceWriter writer(a.out, meta, a.overwrite);
+  if (streams.imu) writer.WriteImu(*streams.imu);
+  if (streams.wheel) writer.WriteWheel(*streams.wheel);
   const LabelWriter label_writer(a.out, simulator.has_actors());
   std::vector<std::uint8_t> labels;
   std::vector<io::StampedPose> ground_truth;
@@ -201,6 +207,7 @@ int Run(const Args& a) {
       "{:.0f} ms, {} scans simulated and written in {:.1f} s",
       path_length, ground_truth.back().t - ground_truth.front().t, slowest, Median(speeds), fastest,
       setup_ms, scans, total_s);
+  spdlog::info("simulate: {}", sim::StreamsSummary(streams));
   spdlog::info("simulate: actors: {}{}", ActorSummary(simulator.actors()),
                simulator.has_actors() ? " (point labels in labels/)" : "");
   return 0;
@@ -270,6 +277,16 @@ int main(int argc, char** argv) {
   app.add_option("--t0", a.sim.t0, "Start time of scan 0, seconds")->capture_default_str();
   app.add_option("--threads", a.sim.threads, "Threads (0: all cores, 1: single-threaded)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_flag("--no-imu", a.streams.no_imu, "Do not write imu.csv (written by default)");
+  app.add_flag("--no-wheel", a.streams.no_wheel,
+               "Do not write wheel.csv (written by default for the wheeled and vehicle carriers)");
+  app.add_option("--imu-rate", a.streams.imu.rate_hz, "IMU rate, Hz (the OS1's: 100)")
+      ->check(CLI::Range(1.0, 2000.0))->capture_default_str();
+  app.add_option("--imu-time-offset", a.streams.imu.description.time_offset,
+                 "IMU stamp minus the LiDAR-clock time of its measurement, seconds")
+      ->check(CLI::Range(-0.5, 0.5))->capture_default_str();
+  app.add_option("--wheel-rate", a.streams.wheel.rate_hz, "Wheel odometry rate, Hz")
+      ->check(CLI::Range(1.0, 2000.0))->capture_default_str();
   app.add_option("--rings", a.rings, "Override: number of rings")->check(CLI::Range(1, 256));
   app.add_option("--columns", a.columns, "Override: columns per revolution")->check(CLI::Range(1, 16384));
   app.add_option("--vfov-up", a.vfov_up, "Override: elevation of the top ring, degrees");

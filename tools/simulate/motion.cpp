@@ -93,6 +93,11 @@ CarrierParams ToParams(const HandheldProfile& p) {
   c.look_around_deg_min = p.look_around_deg_min;
   c.look_around_deg_max = p.look_around_deg_max;
   c.look_around_rate_deg_s = p.look_around_rate_deg_s;
+  c.drops = p.drops;
+  c.drop_height_min = p.drop_height_min;
+  c.drop_height_max = p.drop_height_max;
+  c.drop_catch_accel = p.drop_catch_accel;
+  c.drop_recover = p.drop_recover;
   return c;
 }
 
@@ -333,6 +338,38 @@ CarrierMotion::CarrierMotion(const CarrierParams& params, const Path& path, bool
     look_arounds_.push_back({next, length, sign * degrees * kDegToRad});
     next += length + gap;
   }
+  // Drawn after the look-arounds, and only when there are drops: no other seed changes.
+  for (int i = 0; i < params_.drops && duration > 10.0; ++i) {
+    const double start = rng.Range(0.3, 0.7) * duration;
+    drops_.push_back({start, rng.Range(params_.drop_height_min, params_.drop_height_max)});
+  }
+}
+
+// Free fall (z = -g t^2 / 2) through the drop height, a constant deceleration to rest, then a
+// raised-cosine lift back: the offset and its rate are continuous, the acceleration steps.
+double CarrierMotion::DropOffset(double t) const {
+  constexpr double kG = 9.81;
+  double z = 0.0;
+  for (const Drop& drop : drops_) {
+    double u = t - drop.start;
+    if (u <= 0.0) continue;
+    const double fall = std::sqrt(2.0 * drop.height / kG), v_fall = kG * fall;
+    const double catch_accel = std::max(params_.drop_catch_accel, 1.0);
+    const double catch_time = v_fall / catch_accel;
+    const double lowest = -drop.height - 0.5 * v_fall * v_fall / catch_accel;
+    if (u < fall) {
+      z += -0.5 * kG * u * u;
+      continue;
+    }
+    u -= fall;
+    if (u < catch_time) {
+      z += -drop.height - v_fall * u + 0.5 * catch_accel * u * u;
+      continue;
+    }
+    u -= catch_time;
+    z += lowest * (1.0 - RaisedCosine(u / std::max(params_.drop_recover, 0.1)));
+  }
+  return z;
 }
 
 void CarrierMotion::ApplySlowZones(const std::vector<SpeedZone>& zones) {
@@ -463,6 +500,7 @@ CarrierMotion::Body CarrierMotion::BodyAt(double t, double gait) const {
   b.pitch += Suspension(suspension_pitch_, t);
   b.roll += Suspension(suspension_roll_, t);
   b.vertical = gait * sum(vib_z_);
+  if (!drops_.empty()) b.vertical += DropOffset(t);
   b.lateral = gait * sum(vib_y_);
   if (gait_hz_ > 0.0 && gait > 0.0) {
     const double phase = 2.0 * kPi * gait_hz_ * t + gait_phase_;

@@ -45,6 +45,13 @@ struct HandheldProfile {
   double look_arounds_per_minute = 0.0;
   double look_around_deg_min = 45.0, look_around_deg_max = 100.0;
   double look_around_rate_deg_s = 120.0;
+  // Drops: the sensor slips from the hand, falls freely drop_height_min..max (the
+  // accelerometer reads ~0), is caught at drop_catch_accel and lifted back over drop_recover
+  // seconds; at random times after the start ramp.
+  int drops = 0;
+  double drop_height_min = 0.3, drop_height_max = 0.5;
+  double drop_catch_accel = 30.0;  // m/s^2, about 3 g
+  double drop_recover = 1.0;
 };
 
 // A quadruped robot at a trot: the body pitches and rolls sharply at the trot frequency.
@@ -123,6 +130,8 @@ struct CarrierParams {
   double look_around_deg_min = 45.0, look_around_deg_max = 100.0, look_around_rate_deg_s = 120.0;
   double pitch_per_accel_deg = 0.0, roll_per_lateral_accel_deg = 0.0;  // see VehicleProfile
   double suspension_time_constant = 0.25;
+  int drops = 0;  // see HandheldProfile
+  double drop_height_min = 0.3, drop_height_max = 0.5, drop_catch_accel = 30.0, drop_recover = 1.0;
 };
 CarrierParams ToParams(const HandheldProfile& p);
 CarrierParams ToParams(const LeggedProfile& p);
@@ -194,6 +203,11 @@ class CarrierMotion {
     double start = 0.0, length = 0.0, amplitude = 0.0;
   };
   std::vector<LookAround> look_arounds_;
+  struct Drop {
+    double start = 0.0, height = 0.0;
+  };
+  std::vector<Drop> drops_;
+  double DropOffset(double t) const;  // vertical, metres (<= 0)
 };
 
 }  // namespace dammloam::sim

@@ -13,6 +13,7 @@ SimOptions Preset::Options(std::uint64_t seed) const {
   options.full_range_reflectivity = full_range_reflectivity;
   options.actors = actors;
   options.look_arounds_per_minute = look_arounds_per_minute;
+  options.handheld_profile = handheld_profile;
   return options;
 }
 
@@ -45,6 +46,34 @@ ActorConfig CampusCrowd() {
   c.traffic = 5;
   c.park_and_leave = true;
   return c;
+}
+
+// Running with the sensor: 2.5-3.0 m/s at a 2.6-2.9 Hz stride, bouncing 3 cm, whipping it
+// round at up to 3 rad/s eight times a minute, and dropping it once.
+HandheldProfile Running() {
+  HandheldProfile p;
+  p.speed_min = 2.5;
+  p.speed_max = 3.0;
+  p.gait_hz_min = 2.6;
+  p.gait_hz_max = 2.9;
+  p.accel = 2.0;
+  p.lateral_accel = 2.0;
+  p.stops_per_minute = 0.5;
+  p.bob = 0.03;
+  p.lateral_sway = 0.04;
+  p.yaw_sway_deg = 3.0;
+  p.gait_pitch_deg = 1.5;
+  p.gait_roll_deg = 1.0;
+  p.tilt_deg = 2.0;
+  p.shake_deg = 0.3;  // as walking: at a run the rate of the shake would exceed the turns
+  p.look_arounds_per_minute = 8.0;
+  p.look_around_deg_min = 60.0;
+  p.look_around_deg_max = 120.0;
+  // 2.2 rad/s at a swing's peak; with the stride's sway and the shake the body turns at up to
+  // ~3 rad/s (tests/sim/test_inertial.cpp).
+  p.look_around_rate_deg_s = 2.2 * 180.0 / 3.14159265358979323846;
+  p.drops = 1;
+  return p;
 }
 
 ActorConfig FollowMe() {
@@ -102,6 +131,14 @@ const std::vector<Preset>& Presets() {
         "a hand-held walk through the zigzag whose operator swings the sensor 45-100 deg sideways "
         "and back at up to 120 deg/s, six times a minute");
     p.back().look_arounds_per_minute = 6.0;
+    // Inertial presets (issue 55): the motions an IMU or wheel odometry is there for.
+    add("handheld-aggressive", SceneKind::Campus, MotionKind::Handheld, 1300,
+        "running round the campus loop at 2.5-3 m/s, whipping the sensor round at up to 3 rad/s "
+        "eight times a minute, and one drop of 0.3-0.5 m (free fall, caught at 3 g)");
+    p.back().handheld_profile = Running();
+    add("wheeled-endless", SceneKind::EndlessCorridor, MotionKind::Wheeled, 5000,
+        "a wheeled robot 200 m out and back in the endless corridor: only the motion model (or "
+        "wheel odometry) constrains its axis");
     // Drift and loop-closure presets (issue 53): long enough for odometry to drift, with true
     // revisits and look-alike places that are not revisits.
     add("campus-long-handheld", SceneKind::CampusLong, MotionKind::Handheld, 12000,

@@ -23,6 +23,7 @@ struct Preset {
   std::string what;            // what the run tests, one line
   ActorConfig actors;          // moving people, vehicles and doors (none by default)
   double look_arounds_per_minute = 0.0;  // hand-held: sideways swings of the sensor (SimOptions)
+  std::optional<HandheldProfile> handheld_profile;  // hand-held: not a walk (SimOptions)
 
   // scene-independent options: seed, noise, carrier, range model, num_scans = scans.
   SimOptions Options(std::uint64_t seed = 1) const;

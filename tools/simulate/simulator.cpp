@@ -99,6 +99,7 @@ World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOp
   }
   MotionSpec carrier;
   carrier.kind = options.motion;
+  if (options.handheld_profile) carrier.handheld = *options.handheld_profile;
   const CarrierParams params = CarrierParamsOf(carrier);
   // --speed rescales the carrier's speeds so that the middle of its range is `speed`.
   const double scale = options.speed > 0.0 ? 2.0 * options.speed / (params.speed_min + params.speed_max) : 1.0;
@@ -112,8 +113,12 @@ World Simulator::MakeWorld(SceneKind kind, const SensorSpec& sensor, const SimOp
     profile.speed_min *= scale;
     profile.speed_max *= scale;
   };
+  if (options.handheld_profile) {
+    w.motion.handheld = *options.handheld_profile;
+  } else {
+    w.motion.handheld.look_arounds_per_minute = options.look_arounds_per_minute;
+  }
   rescale(w.motion.handheld);
-  w.motion.handheld.look_arounds_per_minute = options.look_arounds_per_minute;
   rescale(w.motion.legged);
   rescale(w.motion.wheeled);
   rescale(w.motion.vehicle);

@@ -48,6 +48,9 @@ struct SimOptions {
   // Moving people, vehicles and doors (actor_layouts.hpp), placed from `seed` through a stream
   // of their own: the noise and the carrier are the same with or without them. Default: none.
   ActorConfig actors;
+  // Hand-held only: replaces the default walking profile (e.g. handheld-aggressive's run), its
+  // look-arounds included (look_arounds_per_minute above is then not used).
+  std::optional<HandheldProfile> handheld_profile;
 };
 
 inline constexpr double kRandomFiringPhase = -1.0;

@@ -112,8 +112,17 @@ Eigen::Isometry3d Trajectory::Pose(double t) const {
 // The carrier's distance along the path, the zig-zag of the scene, the body motion on top.
 Eigen::Isometry3d Trajectory::CarrierPose(double t) const {
   const CarrierMotion::Sample sample = carrier_->Eval(t);
+  return CarrierPoseWith(sample, carrier_->BodyAt(t, sample.gait));
+}
+
+Eigen::Isometry3d Trajectory::ChassisPose(double t) const {
+  if (!carrier_) return Pose(t);
+  return CarrierPoseWith(carrier_->Eval(t), CarrierMotion::Body{});
+}
+
+Eigen::Isometry3d Trajectory::CarrierPoseWith(const CarrierMotion::Sample& sample,
+                                              const CarrierMotion::Body& body) const {
   const double s = sample.s;
-  const CarrierMotion::Body body = carrier_->BodyAt(t, sample.gait);
   const Path::State base = spec_.path.At(s, spec_.closed);
   const Eigen::Vector2d left(-std::sin(base.heading), std::cos(base.heading));
   const double lateral = Wave(spec_.zigzag_amplitude, spec_.zigzag_wavelength, s) + body.lateral;

@@ -73,6 +73,10 @@ class Trajectory {
   const MotionSpec& spec() const { return spec_; }
   // Arc length along spec().path travelled after t seconds, whichever carrier moves.
   double PathDistance(double t) const;
+  // The carrier's chassis without its body motion (sway, shake, vibration, suspension): where
+  // the wheels take it, at the sensor's nominal height, sensor axes. What wheel odometry
+  // measures. Constant motion: Pose(t).
+  Eigen::Isometry3d ChassisPose(double t) const;
   // The precomputed carrier (null for constant motion).
   const CarrierMotion* carrier() const { return carrier_.get(); }
 
@@ -81,6 +85,7 @@ class Trajectory {
   double Distance(double t) const;  // arc length travelled along the path after t seconds
 
   Eigen::Isometry3d CarrierPose(double t) const;
+  Eigen::Isometry3d CarrierPoseWith(const CarrierMotion::Sample& sample, const CarrierMotion::Body& body) const;
 
   MotionSpec spec_;
   std::shared_ptr<const CarrierMotion> carrier_;  // shared: copies of a simulator stay cheap

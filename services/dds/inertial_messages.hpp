@@ -1,0 +1,24 @@
+#pragma once
+// ImuSample / WheelSample (core/inertial) <-> the Imu and WheelOdometry samples (issue 55).
+#include <string>
+
+#include "core/inertial/imu_sample.hpp"
+#include "core/inertial/inertial_config.hpp"
+#include "core/inertial/wheel_sample.hpp"
+#include "dammloam.h"
+
+namespace dammloam::dds {
+
+// The covariances are the white noise per sample at `rate_hz` (density^2 * rate) on the
+// diagonal. frame_id must outlive the returned sample (it is pointed to, not copied).
+dammloam_msg_Imu ToImuMessage(const ImuSample& sample, const ImuNoise& noise, double rate_hz,
+                              const std::string& frame_id, std::uint64_t seq);
+ImuSample FromImuMessage(const dammloam_msg_Imu& message);
+
+// Variances: `speed_sigma`^2 on vx, `yaw_rate_sigma`^2 on wz, 1e6 on the unmeasured components.
+dammloam_msg_WheelOdometry ToWheelMessage(const WheelSample& sample, double speed_sigma,
+                                          double yaw_rate_sigma, const std::string& frame_id,
+                                          std::uint64_t seq);
+WheelSample FromWheelMessage(const dammloam_msg_WheelOdometry& message);
+
+}  // namespace dammloam::dds

@@ -1,0 +1,85 @@
+#include "tools/odometry/inertial_input.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "io/motion_csv.hpp"
+#include "io/sequence_meta.hpp"
+
+namespace dammloam::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+template <class Sample>
+void LogStream(const fs::path& file, const std::vector<Sample>& samples, const io::StreamReadReport& report,
+               const char* what) {
+  if (samples.size() < 2) {
+    spdlog::warn("{}: only {} usable {} samples", file.string(), samples.size(), what);
+  } else {
+    const double span = samples.back().t - samples.front().t;
+    spdlog::info("{}: read {} {} samples, {:.1f} Hz over {:.2f} s (t {:.3f} .. {:.3f}); the "
+                 "estimator does not use them yet (issue 55): poses are LiDAR-only",
+                 file.string(), samples.size(), what, static_cast<double>(samples.size() - 1) / span, span,
+                 samples.front().t, samples.back().t);
+  }
+  if (report.dropped() > 0) spdlog::warn("{}: {}", file.string(), report.Summary());
+  // A gap (a stalled driver, lost packets) is no parse error but the estimator must know of it.
+  if (samples.size() >= 3) {
+    std::vector<double> steps;
+    for (std::size_t k = 1; k < samples.size(); ++k) steps.push_back(samples[k].t - samples[k - 1].t);
+    const auto largest = std::max_element(steps.begin(), steps.end());
+    const double median = Median(steps);
+    if (*largest > 3.0 * median) {
+      const auto at = static_cast<std::size_t>(largest - steps.begin());
+      spdlog::warn("{}: a gap of {:.3f} s after t {:.3f} ({:.0f} sample periods)", file.string(), *largest,
+                   samples[at].t, *largest / median);
+    }
+  }
+}
+
+}  // namespace
+
+InertialInput ReadInertialInput(const RunnerOptions& o) {
+  InertialInput input;
+  const fs::path dir = o.sequence;
+  if (!fs::is_directory(dir) || !fs::exists(dir / "meta.json")) return input;
+  const fs::path imu_csv = dir / "imu.csv", wheel_csv = dir / "wheel.csv";
+  const bool want_imu = !o.no_imu && fs::exists(imu_csv);
+  const bool want_wheel = !o.no_wheel && fs::exists(wheel_csv);
+  if (!o.quiet && o.no_imu && fs::exists(imu_csv)) spdlog::info("{}: ignored (--no-imu)", imu_csv.string());
+  if (!o.quiet && o.no_wheel && fs::exists(wheel_csv)) spdlog::info("{}: ignored (--no-wheel)", wheel_csv.string());
+  if (!want_imu && !want_wheel) return input;
+
+  const io::SequenceMeta meta = io::ReadMeta(dir / "meta.json");
+  if (want_imu) {
+    io::StreamReadReport report;
+    std::vector<ImuSample> samples = io::ReadImuCsv(imu_csv, &report);
+    if (meta.T_sensor_imu) {
+      input.imu_description.T_sensor_imu = *meta.T_sensor_imu;
+    } else if (!o.quiet) {
+      spdlog::warn("{}: no \"imu_extrinsic\" in meta.json: assuming the Ouster OS1's", imu_csv.string());
+    }
+    if (meta.imu_noise) input.imu_description.noise = *meta.imu_noise;
+    input.imu_description.time_offset = meta.imu_time_offset;
+    for (ImuSample& s : samples) s.t -= meta.imu_time_offset;
+    if (!o.quiet) LogStream(imu_csv, samples, report, "IMU");
+    input.imu = std::move(samples);
+  }
+  if (want_wheel) {
+    io::StreamReadReport report;
+    std::vector<WheelSample> samples = io::ReadWheelCsv(wheel_csv, &report);
+    if (meta.T_sensor_base) {
+      input.T_sensor_base = *meta.T_sensor_base;
+    } else if (!o.quiet) {
+      spdlog::warn("{}: no \"base_extrinsic\" in meta.json: assuming the base at the sensor", wheel_csv.string());
+    }
+    if (!o.quiet) LogStream(wheel_csv, samples, report, "wheel odometry");
+    input.wheel = std::move(samples);
+  }
+  return input;
+}
+
+}  // namespace dammloam::tools
