@@ -45,12 +45,12 @@ hostport=$(sed -n 's#.*page http://\([^/]*\)/.*#\1#p' "$work/bridge.out")
 url="ws://$hostport/?token=$token"
 echo "bridge on $hostport"
 
-client() { node "$node_dir/bridge_client.cjs" "$@"; }
+client() { timeout 40 node "$node_dir/bridge_client.cjs" "$@"; }
 # Everyone connects before the replay starts and stays until it has ended (about 6 s at 10 Hz).
 client decode "$url" 12 "$work/decode.json" 2>"$work/decode.err" & p1=$!
 client many "$url" 10 12 "$work/many.json" 2>"$work/many.err" & p2=$!
 client stall "$url" 12 2>"$work/stall.err" & p3=$!
-node "$node_dir/screenshot.cjs" "$chromium" "http://$hostport/?token=$token" 11 "$work/page.png" \
+timeout 60 node "$node_dir/screenshot.cjs" "$chromium" "http://$hostport/?token=$token" 11 "$work/page.png" \
   "$work/page.json" 2>"$work/screenshot.err" & p4=$!
 sleep 1.5
 client malformed "$url" "$work/malformed.json" 2>"$work/malformed.err" & p5=$!
@@ -59,8 +59,10 @@ client handshake "$hostport" "$work/handshake.json" 2>"$work/handshake.err" & p6
   >"$work/replay.log" 2>&1 || { echo "FAIL: dammloam-replay"; cat "$work/replay.log"; fail=1; }
 for p in $p1 $p2 $p3 $p4 $p5 $p6; do wait $p || { echo "FAIL: a client (pid $p) failed"; fail=1; }; done
 kill -0 "$bridge" 2>/dev/null || { echo "FAIL: dammloam-bridge died"; fail=1; }
-rss_kb=$(sed -n 's/^VmRSS: *\([0-9]*\) kB/\1/p' "/proc/$bridge/status" 2>/dev/null)
+rss_kb=$(sed -n 's/^VmRSS:[[:space:]]*\([0-9]*\) kB/\1/p' "/proc/$bridge/status" 2>/dev/null)
 echo "bridge RSS after the run: ${rss_kb:-?} kB"
+# BRIDGE_SCREENSHOT=FILE keeps the page's screenshot (the README's picture).
+[ -n "${BRIDGE_SCREENSHOT:-}" ] && cp "$work/page.png" "$BRIDGE_SCREENSHOT"
 [ -f "$src/tools/bridge/web/site/viewer.js" ] || { echo "FAIL: the page's bundle is missing"; fail=1; }
 
 python3 - "$work" "$scans" <<'PY' || fail=1
@@ -102,8 +104,8 @@ for k, v in expected.items():
     if hs.get(k) != v: problems.append(f"handshake {k}: {hs.get(k)}, expected {v}")
 page = load("page.json")
 print("page pixels:", json.dumps(page["counts"]), "| text:", page["page_text"][:200])
-for name in ("ground", "wall", "trajectory"):
-    if page["counts"][name] < 50: problems.append(f"the screenshot shows {page['counts'][name]} {name} pixels")
+for name, least in (("ground", 200), ("wall", 200), ("trajectory", 30)):
+    if page["counts"][name] < least: problems.append(f"the screenshot shows {page['counts'][name]} {name} pixels")
 if page["console"]: print("page console:", page["console"][:5])
 for p in problems: print("FAIL:", p)
 sys.exit(1 if problems else 0)

@@ -25,8 +25,10 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 
-// What every session needs from the server.
-struct Shared {
+}  // namespace
+
+// What every session needs from the server (named: WsServer::Impl holds it).
+struct ServerShared {
   ServerConfig config;
   std::vector<Channel> channels;
   std::set<std::uint32_t> channel_ids;
@@ -35,6 +37,14 @@ struct Shared {
   std::atomic<std::uint64_t> rejected{0};
   std::atomic<std::uint64_t> next_session{1};
 };
+
+namespace {
+
+using Shared = ServerShared;
+
+std::string_view TargetOf(const http::request<http::string_body>& request) {
+  return {request.target().data(), request.target().size()};
+}
 
 // The value of `key` in the target's query string ("/?token=abc&x=1"), empty when absent.
 std::string QueryValue(std::string_view target, std::string_view key) {
@@ -57,13 +67,14 @@ std::string QueryValue(std::string_view target, std::string_view key) {
 bool TokenAccepted(const Shared& shared, const http::request<http::string_body>& request) {
   const std::string& token = shared.config.token;
   if (token.empty()) return true;
-  if (QueryValue(request.target(), "token") == token) return true;
+  if (QueryValue(TargetOf(request), "token") == token) return true;
   const auto authorization = request[http::field::authorization];
-  return authorization == "Bearer " + token;
+  return std::string_view(authorization.data(), authorization.size()) == "Bearer " + token;
 }
 
 bool OffersSubprotocol(const http::request<http::string_body>& request) {
-  std::stringstream offered{std::string(request[http::field::sec_websocket_protocol])};
+  const auto header = request[http::field::sec_websocket_protocol];
+  std::stringstream offered{std::string(header.data(), header.size())};
   std::string item;
   while (std::getline(offered, item, ',')) {
     const auto first = item.find_first_not_of(' ');
@@ -244,7 +255,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (request.method() != http::verb::get) {
       return Reply(request, http::status::method_not_allowed, "GET only\n");
     }
-    std::string path(request.target().substr(0, request.target().find('?')));
+    const std::string_view target = TargetOf(request);
+    std::string path(target.substr(0, target.find('?')));
     if (path == "/") path = "/index.html";
     if (path != "/index.html" && path != "/viewer.js") {
       return Reply(request, http::status::not_found, "not found\n");

@@ -108,16 +108,6 @@ function rawSocket(url, protocols = [FoxgloveClient.SUPPORTED_SUBPROTOCOL], opti
   });
 }
 
-async function advertisedIds(ws) {
-  return new Promise((resolve) => {
-    ws.on("message", (data, binary) => {
-      if (binary) return;
-      const m = JSON.parse(data.toString());
-      if (m.op === "advertise") resolve(m.channels.map((c) => c.id));
-    });
-  });
-}
-
 async function main() {
   if (mode === "decode") {
     const [url, seconds, out] = args;
@@ -130,11 +120,17 @@ async function main() {
     // Subscribes to everything, then stops reading: the kernel's buffers fill and the bridge's
     // queue for this client must drop, not grow, while the others keep their rate.
     const [url, seconds] = args;
-    const ws = await rawSocket(url);
-    const ids = await advertisedIds(ws);
-    ws.send(JSON.stringify({ op: "subscribe", subscriptions: ids.map((id, i) => ({ id: i, channelId: id })) }));
-    setTimeout(() => ws._socket.pause(), 200);
-    setTimeout(() => { ws.terminate(); process.exit(0); }, Number(seconds) * 1000);
+    setTimeout(() => process.exit(0), Number(seconds) * 1000);
+    const ws = new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+    ws.on("error", (e) => { console.error(`stall client: ${e.message}`); process.exit(1); });
+    ws.on("message", (data, binary) => {
+      if (binary) return;
+      const m = JSON.parse(data.toString());
+      if (m.op !== "advertise") return;
+      ws.send(JSON.stringify({ op: "subscribe",
+        subscriptions: m.channels.map((c, i) => ({ id: i, channelId: c.id })) }));
+      setTimeout(() => ws._socket.pause(), 200);
+    });
   } else if (mode === "malformed") {
     const [url, out] = args;
     const ws = await rawSocket(url);

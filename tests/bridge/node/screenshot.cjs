@@ -62,9 +62,15 @@ async function main() {
     const status = await call("Runtime.evaluate", { expression: "document.getElementById('status').innerText + ' | ' + document.getElementById('connection').innerText", returnByValue: true });
     const png = Buffer.from(shot.result.data, "base64");
     fs.writeFileSync(outPng, png);
+    // The legend's swatches are not the map: only pixels outside the text panel count.
+    const rect = await call("Runtime.evaluate", { returnByValue: true,
+      expression: "JSON.stringify(document.getElementById('panel').getBoundingClientRect())" });
+    const panel = JSON.parse(rect.result.result.value);
     const image = PNG.sync.read(png);
     const counts = Object.fromEntries(Object.keys(COLORS).map((k) => [k, 0]));
     for (let i = 0; i < image.data.length; i += 4) {
+      const x = (i / 4) % image.width, y = Math.floor(i / 4 / image.width);
+      if (x <= panel.right + 1 && y <= panel.bottom + 1) continue;
       const [r, g, b] = [image.data[i], image.data[i + 1], image.data[i + 2]];
       for (const [name, hex] of Object.entries(COLORS)) {
         if (Math.abs(r - (hex >> 16)) <= 3 && Math.abs(g - ((hex >> 8) & 255)) <= 3 && Math.abs(b - (hex & 255)) <= 3) {

@@ -41,8 +41,11 @@ export class Scene {
     return points;
   }
 
+  // Drawn over the points: the path runs on the ground the map points cover.
   addLines(color) {
-    const lines = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color }));
+    const material = new THREE.LineBasicMaterial({ color, depthTest: false });
+    const lines = new THREE.LineSegments(new THREE.BufferGeometry(), material);
+    lines.renderOrder = 1;
     this.scene.add(lines);
     return lines;
   }
