@@ -27,8 +27,18 @@ export class Scene {
     this.scene.add(this.pose);
     window.addEventListener("resize", () => this.resize());
     this.resize();
-    this.renderer.setAnimationLoop(() => {
+    // Drawn only when something changed: a continuous 60 Hz loop over the whole map costs a
+    // core where WebGL runs in software (no GPU), next to the daemon.
+    this.dirty = true;
+    this.controls.addEventListener("change", () => { this.dirty = true; });
+    // New data is drawn at most 5 times a second; dragging the view stays smooth.
+    this.lastDraw = 0;
+    this.controls.addEventListener("change", () => { this.lastDraw = 0; });
+    this.renderer.setAnimationLoop((now) => {
       this.controls.update();
+      if (!this.dirty || now - this.lastDraw < 200) return;
+      this.dirty = false;
+      this.lastDraw = now;
       this.renderer.render(this.scene, this.camera);
     });
   }
@@ -55,6 +65,7 @@ export class Scene {
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
+    this.dirty = true;
   }
 
   // sensor_msgs/PointCloud2 with float32 x y z and uint8 label, little-endian (what the bridge
@@ -78,6 +89,7 @@ export class Scene {
     geometry.computeBoundingBox();
     points.geometry.dispose();
     points.geometry = geometry;
+    this.dirty = true;
     if (points === this.map && !this.userMoved && n > 0) this.frame(geometry.boundingBox);
   }
 
@@ -91,11 +103,13 @@ export class Scene {
     geometry.setAttribute("position", new THREE.Float32BufferAttribute(vertices, 3));
     lines.geometry.dispose();
     lines.geometry = geometry;
+    this.dirty = true;
   }
 
   setPose(odometry) {
     const p = odometry.pose.pose.position;
     this.pose.position.set(p.x, p.y, p.z);
+    this.dirty = true;
   }
 
   // Looks at the whole map from above and behind.
