@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 #include <stdexcept>
 
 #include "io/bag/pointcloud2_cdr.hpp"
@@ -40,6 +41,17 @@ struct LabelledSample {
   std::vector<std::uint8_t> data;
   dammloam_msg_LabelledCloud sample{};
 };
+
+TEST(BridgeMessages, EveryChannelHasAUniqueIdAndASchema) {
+  const std::vector<Channel> channels = BridgeChannels();
+  ASSERT_EQ(channels.size(), 7u);
+  std::set<std::uint32_t> ids;
+  for (const Channel& c : channels) {
+    EXPECT_TRUE(ids.insert(c.id).second) << c.topic;
+    EXPECT_FALSE(c.schema.empty()) << c.topic;
+    EXPECT_EQ(c.schema_encoding, c.encoding == "cdr" ? "ros2msg" : "jsonschema") << c.topic;
+  }
+}
 
 TEST(BridgeMessages, LabelledCloudIsCutToItsBudgetKeepingLabels) {
   LabelledSample cloud(1000);
