@@ -8,7 +8,7 @@
 namespace dammloam::bridge {
 namespace {
 
-std::string ErrorOf(const std::string& text) {
+std::string ListenError(const std::string& text) {
   try {
     ParseListenAddress(text);
   } catch (const std::invalid_argument& e) {
@@ -27,12 +27,12 @@ TEST(ListenAddress, HostAndPortAreSplit) {
 }
 
 TEST(ListenAddress, BadValuesNameTheProblem) {
-  EXPECT_NE(ErrorOf("8765").find("expected ADDR:PORT"), std::string::npos);
-  EXPECT_NE(ErrorOf("127.0.0.1:").find("expected ADDR:PORT"), std::string::npos);
-  EXPECT_NE(ErrorOf("127.0.0.1:65536").find("port '65536' is not a number from 0 to 65535"),
+  EXPECT_NE(ListenError("8765").find("expected ADDR:PORT"), std::string::npos);
+  EXPECT_NE(ListenError("127.0.0.1:").find("expected ADDR:PORT"), std::string::npos);
+  EXPECT_NE(ListenError("127.0.0.1:65536").find("port '65536' is not a number from 0 to 65535"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("127.0.0.1:80a").find("port '80a'"), std::string::npos);
-  EXPECT_NE(ErrorOf("127.0.0.1:-1").find("port '-1'"), std::string::npos);
+  EXPECT_NE(ListenError("127.0.0.1:80a").find("port '80a'"), std::string::npos);
+  EXPECT_NE(ListenError("127.0.0.1:-1").find("port '-1'"), std::string::npos);
 }
 
 }  // namespace
