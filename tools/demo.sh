@@ -2,8 +2,8 @@
 # The README's main command: installs, builds, simulates a corridor, runs the dammloamd service on
 # it over DDS (loopback only), records the poses that come back and prints their accuracy.
 # --view: also starts dammloam-bridge and prints the page's address (http://127.0.0.1:8765/, or
-# BRIDGE_LISTEN), replays in real time (10 Hz) so the corridor builds up live, and keeps the page
-# up after the run until Ctrl-C (when run from a terminal).
+# BRIDGE_LISTEN), waits VIEW_WAIT (5) seconds for the page to be opened, and keeps the page up
+# after the run until Ctrl-C (when run from a terminal).
 set -euo pipefail
 VIEW=no
 for arg in "$@"; do
@@ -56,13 +56,10 @@ if [ "$VIEW" = yes ]; then
 fi
 sleep 1
 
-if [ "$VIEW" = yes ]; then
-  echo "== 3/4 replaying the sequence into the daemon in real time (10 Hz)"
-  "$BIN/dammloam-replay" "$OUT/seq" --domain "$DOMAIN" --rate 1
-else
-  echo "== 3/4 replaying the sequence into the daemon in lock-step"
-  "$BIN/dammloam-replay" "$OUT/seq" --domain "$DOMAIN" --lockstep
-fi
+# Lock-step with --view too: at a fixed 10 Hz a 2-core machine running a browser next to the
+# daemon drops scans (measured: 20 of 150), and the accuracy printed below would change.
+echo "== 3/4 replaying the sequence into the daemon in lock-step"
+"$BIN/dammloam-replay" "$OUT/seq" --domain "$DOMAIN" --lockstep
 wait $RECORD
 kill -TERM $DAEMON && wait $DAEMON || true
 

@@ -118,6 +118,6 @@ export class Scene {
     const size = box.getSize(new THREE.Vector3());
     const extent = Math.max(size.x, size.y, 5);
     this.controls.target.copy(center);
-    this.camera.position.set(center.x, center.y - 0.35 * extent, center.z + 1.0 * extent);
+    this.camera.position.set(center.x, center.y - 0.3 * extent, center.z + 0.75 * extent);
   }
 }
