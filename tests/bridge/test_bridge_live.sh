@@ -63,7 +63,18 @@ rss_kb=$(sed -n 's/^VmRSS:[[:space:]]*\([0-9]*\) kB/\1/p' "/proc/$bridge/status"
 echo "bridge RSS after the run: ${rss_kb:-?} kB"
 # BRIDGE_SCREENSHOT=FILE keeps the page's screenshot (the README's picture).
 [ -n "${BRIDGE_SCREENSHOT:-}" ] && cp "$work/page.png" "$BRIDGE_SCREENSHOT"
-[ -f "$src/tools/bridge/web/site/viewer.js" ] || { echo "FAIL: the page's bundle is missing"; fail=1; }
+[ -n "$rss_kb" ] && [ "$rss_kb" -lt 150000 ] ||
+  { echo "FAIL: bridge RSS ${rss_kb:-?} kB (queues are bounded at 16 MiB per client)"; fail=1; }
+# The committed bundle must be what its sources give (when the page's npm packages are there).
+web=$src/tools/bridge/web
+if [ -x "$web/node_modules/.bin/esbuild" ]; then
+  (cd "$web" && ./node_modules/.bin/esbuild src/main.js --bundle --minify --format=iife \
+    --target=es2020 --outfile="$work/viewer.js" --log-level=error) &&
+    cmp -s "$work/viewer.js" "$web/site/viewer.js" ||
+    { echo "FAIL: tools/bridge/web/site/viewer.js is stale: cmake --build build --target dammloam-bridge-page"; fail=1; }
+else
+  echo "note: tools/bridge/web/node_modules missing, bundle not compared with its sources"
+fi
 
 python3 - "$work" "$scans" <<'PY' || fail=1
 import json, sys
