@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   double stats_period = 10.0;
 
   CLI::App app{"dammloam-bridge: dammloamd live over the Foxglove WebSocket protocol and a page"};
-  app.add_option("--domain", feed.domain, "DDS domain id of dammloamd");
+  app.add_option("--domain", feed.domain, "DDS domain id of dammloamd")
+      ->check(CLI::Range(0u, 232u));
   app.add_option("--listen", listen,
                  "ADDR:PORT to serve on (default 127.0.0.1:8765, loopback only; port 0 = any)");
   app.add_option("--token", server_config.token,
@@ -39,24 +40,30 @@ int main(int argc, char** argv) {
                  "'Authorization: Bearer T' (default: none)");
   app.add_option("--web-root", server_config.web_root, "folder with index.html and viewer.js");
   app.add_option("--cloud-budget", feed.cloud_budget,
-                 "points per labelled cloud sent (every k-th point; 0 = all)");
+                 "points per labelled cloud sent (every k-th point; 0 = all)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{10'000'000}));
   app.add_option("--map-voxel", feed.map.voxel_size, "map voxel size in metres")
       ->check(CLI::PositiveNumber);
-  app.add_option("--map-max-points", feed.map.max_points, "map size limit (voxels)");
+  app.add_option("--map-max-points", feed.map.max_points, "map size limit (voxels)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{50'000'000}));
   app.add_option("--map-period", feed.map_period_s, "seconds between map and trajectory sends")
       ->check(CLI::PositiveNumber);
   app.add_option("--queue-frames", server_config.queue.max_frames,
                  "frames waiting per client before the oldest are dropped")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--queue-mib", server_config.queue.max_bytes,
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000}));
+  std::size_t queue_mib = server_config.queue.max_bytes >> 20;
+  app.add_option("--queue-mib", queue_mib,
                  "MiB waiting per client before the oldest frames are dropped")
-      ->check(CLI::PositiveNumber)
-      ->transform([](std::string v) { return std::to_string(std::stoull(v) << 20); });
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4096}));
+  app.add_option("--max-clients", server_config.max_clients,
+                 "WebSocket clients at once; more are refused (HTTP 503)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{10'000}));
   app.add_option("--stats-period", stats_period, "seconds between log lines of counters")
       ->check(CLI::PositiveNumber);
   app.add_flag("--allow-default-network", allow_default_network,
                "allow DDS without CYCLONEDDS_URI (Cyclone's default interface)");
   CLI11_PARSE(app, argc, argv);
+  server_config.queue.max_bytes = queue_mib << 20;
 
   return tools::RunDdsTool(allow_default_network, [&] {
     const bridge::ListenAddress address = bridge::ParseListenAddress(listen);

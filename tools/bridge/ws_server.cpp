@@ -243,6 +243,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (websocket::is_upgrade(request)) {
       if (!TokenAccepted(shared_, request)) return Reply(request, http::status::unauthorized,
                                                          "missing or wrong token\n");
+      if (shared_.registry.clients() >= shared_.config.max_clients) {
+        return Reply(request, http::status::service_unavailable,
+                     "too many clients (--max-clients " +
+                         std::to_string(shared_.config.max_clients) + ")\n");
+      }
       if (!OffersSubprotocol(request)) {
         return Reply(request, http::status::bad_request,
                      std::string("WebSocket clients must offer subprotocol ") + kSubprotocol +

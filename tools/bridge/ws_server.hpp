@@ -21,6 +21,8 @@ struct ServerConfig {
   std::string web_root;               // folder with index.html and viewer.js
   SendQueueLimits queue;              // per client
   std::size_t max_client_message = 64 * 1024;  // bytes; a larger frame closes that client
+  // WebSocket clients at once (each may hold a full queue): more are refused with HTTP 503.
+  std::size_t max_clients = 32;
 };
 
 struct ServerStats {
