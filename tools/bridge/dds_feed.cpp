@@ -13,7 +13,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::shared_ptr<const std::string> Shared(std::string bytes) {
+std::shared_ptr<const std::string> SharedBytes(std::string bytes) {
   return std::make_shared<const std::string>(std::move(bytes));
 }
 
@@ -101,9 +101,9 @@ void RunDdsFeed(const FeedConfig& config, WsServer& server, const std::atomic<bo
       if (o.header.frame_id != nullptr && o.header.frame_id[0] != '\0') map_frame = o.header.frame_id;
       newest = ToStamp(o.header.stamp);
       if (server.HasSubscribers(kOdometryChannel)) {
-        server.Publish(kOdometryChannel, t, Shared(OdometryCdr(o)));
+        server.Publish(kOdometryChannel, t, SharedBytes(OdometryCdr(o)));
       }
-      if (server.HasSubscribers(kTfChannel)) server.Publish(kTfChannel, t, Shared(TfCdr(o)));
+      if (server.HasSubscribers(kTfChannel)) server.Publish(kTfChannel, t, SharedBytes(TfCdr(o)));
     }, 64);
     clouds.TakeEach([&](const dammloam_msg_LabelledCloud& c, const dds_sample_info_t&) {
       try {
@@ -111,7 +111,7 @@ void RunDdsFeed(const FeedConfig& config, WsServer& server, const std::atomic<bo
         map.Add(points);
         if (server.HasSubscribers(kLabelledCloudChannel)) {
           server.Publish(kLabelledCloudChannel, StampNanoseconds(c.header.stamp),
-                         Shared(ClassCloudCdr(points, ToStamp(c.header.stamp), map_frame)));
+                         SharedBytes(ClassCloudCdr(points, ToStamp(c.header.stamp), map_frame)));
         }
       } catch (const std::invalid_argument& e) {
         ++counters.bad_samples;
@@ -121,7 +121,7 @@ void RunDdsFeed(const FeedConfig& config, WsServer& server, const std::atomic<bo
     loops.TakeEach([&](const dammloam_msg_LoopClosure& l, const dds_sample_info_t&) {
       if (!loop_lines.AddLoop(l)) return;
       server.Publish(kLoopClosureChannel, StampNanoseconds(l.header.stamp),
-                     Shared(loop_lines.MarkerArrayCdr(ToStamp(l.header.stamp), map_frame)));
+                     SharedBytes(loop_lines.MarkerArrayCdr(ToStamp(l.header.stamp), map_frame)));
     }, 64);
     status.TakeEach([&](const dammloam_msg_DaemonStatus& s, const dds_sample_info_t&) {
       const ServerStats stats = server.Stats();
@@ -129,7 +129,7 @@ void RunDdsFeed(const FeedConfig& config, WsServer& server, const std::atomic<bo
       counters.frames_dropped = stats.frames_dropped;
       counters.map_points = map.size();
       server.Publish(kStatusChannel, StampNanoseconds(s.header.stamp),
-                     Shared(StatusJsonPayload(s, counters)));
+                     SharedBytes(StatusJsonPayload(s, counters)));
     }, 4);
 
     if (Clock::now() >= next_map) {
@@ -137,14 +137,14 @@ void RunDdsFeed(const FeedConfig& config, WsServer& server, const std::atomic<bo
       const std::uint64_t t = StampNanoseconds(dammloam_msg_Time{newest.sec, newest.nanosec});
       // Whole, every period: a client that joins late gets all of it within one period.
       if (map.size() > 0 && server.HasSubscribers(kMapChannel)) {
-        server.Publish(kMapChannel, t, Shared(ClassCloudCdr(map.Points(), newest, map_frame)));
+        server.Publish(kMapChannel, t, SharedBytes(ClassCloudCdr(map.Points(), newest, map_frame)));
       }
       if (!trajectory.empty() && server.HasSubscribers(kTrajectoryChannel)) {
-        server.Publish(kTrajectoryChannel, t, Shared(trajectory.MarkerArrayCdr(newest, map_frame)));
+        server.Publish(kTrajectoryChannel, t, SharedBytes(trajectory.MarkerArrayCdr(newest, map_frame)));
       }
       // Also without new loops (an empty marker at first), so a client that joins late has them.
       if (!trajectory.empty() && server.HasSubscribers(kLoopClosureChannel)) {
-        server.Publish(kLoopClosureChannel, t, Shared(loop_lines.MarkerArrayCdr(newest, map_frame)));
+        server.Publish(kLoopClosureChannel, t, SharedBytes(loop_lines.MarkerArrayCdr(newest, map_frame)));
       }
     }
   }
