@@ -25,8 +25,11 @@ PACKAGES=(
   clang-14 libclang-rt-14-dev
   # Recorded bags (io/bag): rosbag2 SQLite storage, MCAP chunk compression, CRC-32.
   libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
-  # The bag tests' independent MCAP writer and reader (@mcap/core, tests/bag/node).
+  # The bag tests' independent MCAP writer and reader (@mcap/core, tests/bag/node); the bridge
+  # tests' Foxglove client (tests/bridge/node) and the bridge page's bundler (tools/bridge/web).
   nodejs
+  # dammloam-bridge (tools/bridge): Boost.Beast/Asio, header-only; the page test's browser.
+  libboost-dev chromium
 )
 # Debian's npm; a NodeSource nodejs already ships npm and conflicts with that package.
 if ! command -v npm >/dev/null 2>&1; then PACKAGES+=(npm); fi
@@ -38,17 +41,21 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
-# The npm packages of the bag tests, as pinned by tests/bag/node/package-lock.json (into
-# tests/bag/node/node_modules, which git ignores).
+# The npm packages, each pinned by its package-lock.json (into node_modules, which git ignores):
+# the bag tests' (tests/bag/node), the bridge tests' (tests/bridge/node: @foxglove/ws-protocol,
+# ws, pngjs) and the bridge page's (tools/bridge/web: three.js, esbuild; needed only to rebuild
+# the committed bundle site/viewer.js).
 install_node_packages() {
-  local dir
-  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/bag/node"
-  # npm writes node_modules/.package-lock.json on every install: older than the lock = stale.
-  if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
-     [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
-    echo "install-deps: npm ci in tests/bag/node"
-    npm ci --prefix "$dir" --no-audit --no-fund
-  fi
+  local root dir
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  for dir in "$root/tests/bag/node" "$root/tests/bridge/node" "$root/tools/bridge/web"; do
+    # npm writes node_modules/.package-lock.json on every install: older than the lock = stale.
+    if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+       [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+      echo "install-deps: npm ci in ${dir#"$root"/}"
+      npm ci --prefix "$dir" --no-audit --no-fund
+    fi
+  done
 }
 
 if [ ${#missing[@]} -eq 0 ]; then

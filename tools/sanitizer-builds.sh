@@ -55,9 +55,9 @@ configure_clang() {  # configure_clang BUILD_DIR CMAKE_ARGS...
 
 configure_asan() {  # configure_asan BUILD_DIR
   configure_clang "$1" -DDAMMLOAM_FUZZ=ON \
-    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system;bag"
+    -DDAMMLOAM_TEST_AREAS="geometry;core;odometry;tools;sim;drivers;backend;runner;system;bag;bridge"
 }
 
 configure_tsan() {  # configure_tsan BUILD_DIR
-  configure_clang "$1" -DDAMMLOAM_TSAN=ON -DDAMMLOAM_TEST_AREAS="system;odometry;backend"
+  configure_clang "$1" -DDAMMLOAM_TSAN=ON -DDAMMLOAM_TEST_AREAS="system;odometry;backend;bridge"
 }

@@ -16,10 +16,15 @@ struct Part {
   const char* text;
 };
 
+// Dependencies are named "pkg/Type" after MSG:, as rosbag2 writes them and as Foxglove's parser
+// (@foxglove/rosmsg) looks up fully qualified references such as "std_msgs/Header": with
+// "pkg/msg/Type" it finds no definition and refuses the whole schema (tests/bridge showed it).
 std::string Join(const char* top, std::initializer_list<Part> dependencies) {
   std::string out = top;
   for (const Part& part : dependencies) {
-    out += std::string(80, '=') + "\nMSG: " + part.name + "\n" + part.text;
+    std::string name = part.name;
+    if (const std::size_t msg = name.find("/msg/"); msg != std::string::npos) name.erase(msg, 4);
+    out += std::string(80, '=') + "\nMSG: " + name + "\n" + part.text;
   }
   return out;
 }

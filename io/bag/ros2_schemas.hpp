@@ -1,6 +1,6 @@
 #pragma once
 // Complete ros2msg definitions (the top-level .msg, then each dependency after a line of 80 '='
-// and "MSG: pkg/msg/Type") of the messages dammloam writes into MCAP, so that readers that
+// and "MSG: pkg/Type") of the messages dammloam writes into MCAP, so that readers that
 // know no ROS types (Foxglove, Lichtblick) can decode them. Field order is the CDR order of
 // ros2_output.cpp; the definitions are those of ROS 2 Humble and later.
 #include <string>

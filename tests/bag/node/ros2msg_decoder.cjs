@@ -19,7 +19,9 @@ function parseSchema(topName, text) {
       while (lines.length && !lines[0].trim()) lines.shift();
       const m = /^MSG: (\S+)$/.exec(lines.shift().trim());
       if (!m) throw new Error(`block ${i}: no MSG: line`);
-      name = m[1];
+      // "MSG: pkg/Type" (rosbag2's spelling) or "pkg/msg/Type": both name pkg/msg/Type.
+      const parts = m[1].split("/");
+      name = parts.length === 2 ? `${parts[0]}/msg/${parts[1]}` : m[1];
     }
     const pkg = name.split("/")[0];
     const fields = [];
