@@ -42,6 +42,32 @@ TEST_F(SimulatePresetCli, PresetPrefixMatchesTheLibrary) {
   }
 }
 
+// Every preset's walk from the CLI is the library's (the benchmark simulates through the
+// library): 16 s of each, on a sensor of 2 x 36 rays so that only the motion costs. Until
+// 2026-11-29 the CLI dropped handheld-look-around's swings.
+TEST_F(SimulatePresetCli, EveryPresetWalksAsInTheLibrary) {
+  for (const Preset& preset : Presets()) {
+    const fs::path out = dir_ / preset.name;
+    ASSERT_EQ(Run("--preset " + preset.name + " --sensor vlp-16 --rings 2 --columns 36 --scans 160 "
+                  "--seed 2 --no-imu --no-wheel --out " + out.string()),
+              0)
+        << Log();
+    SensorSpec sensor = Vlp16();
+    sensor.columns = 36;
+    const Simulator sim(preset, sensor, 2);
+    const auto gt = io::SequenceReader::Open(out).ReadGroundTruth();
+    ASSERT_TRUE(gt.has_value());
+    ASSERT_EQ(gt->size(), 160u);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < gt->size(); ++k) {
+      const Eigen::Isometry3d T = sim.PoseAt(sim.ScanStartTime(static_cast<int>(k)));
+      worst = std::max(worst, ((*gt)[k].T.translation() - T.translation()).norm() +
+                                  Eigen::AngleAxisd(T.rotation().transpose() * (*gt)[k].T.rotation()).angle());
+    }
+    EXPECT_LT(worst, 1e-5) << preset.name;
+  }
+}
+
 // labels/NNNNNN.bin: one byte per point of the scan file, only for runs with actors.
 TEST_F(SimulatePresetCli, ActorPresetWritesLabelsBesideTheScans) {
   const fs::path out = dir_ / "seq";

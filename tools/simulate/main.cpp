@@ -119,6 +119,9 @@ int Run(const Args& a) {
     options.full_range_reflectivity = planned.full_range_reflectivity;
     options.actors = planned.actors;
     options.handheld_profile = planned.handheld_profile;
+    // Was missing until 2026-11-29: the CLI's handheld-look-around walked without its swings
+    // (the library, and so the benchmark, had them).
+    options.look_arounds_per_minute = planned.look_arounds_per_minute;
     scans = a.scans.value_or(preset.scans);
   } else {
     if (a.scene.empty()) throw std::invalid_argument("--scene or --preset is required");
