@@ -17,16 +17,6 @@ using test::IoErrorOf;
 using test::TempDir;
 using test::WriteText;
 
-// Expects an IoError mentioning every fragment.
-#define EXPECT_IO_ERROR(statement, ...)                                          \
-  do {                                                                           \
-    const std::string error_ = IoErrorOf([&] { statement; });                   \
-    for (const std::string& fragment_ : std::initializer_list<std::string>{__VA_ARGS__}) { \
-      EXPECT_NE(error_.find(fragment_), std::string::npos)                       \
-          << "missing '" << fragment_ << "' in: " << error_;                     \
-    }                                                                            \
-  } while (false)
-
 constexpr const char* kMeta =
     R"({"sensor": "test", "rings": 4, "columns": 8, "scan_period": 0.1, "min_range": 0.3,
         "max_range": 100.0, "point_layout": "xyzitr"})";

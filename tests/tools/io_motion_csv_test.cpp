@@ -19,15 +19,6 @@ using test::IoErrorOf;
 using test::TempDir;
 using test::WriteText;
 
-#define EXPECT_IO_ERROR(statement, ...)                                                    \
-  do {                                                                                     \
-    const std::string error_ = IoErrorOf([&] { statement; });                             \
-    for (const std::string& fragment_ : std::initializer_list<std::string>{__VA_ARGS__}) { \
-      EXPECT_NE(error_.find(fragment_), std::string::npos)                                 \
-          << "missing '" << fragment_ << "' in: " << error_;                               \
-    }                                                                                      \
-  } while (false)
-
 constexpr const char* kImuHeader = "t,wx,wy,wz,ax,ay,az\n";
 // Eigen's `{}` leaves a vector uninitialized: spell zero out.
 const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();

@@ -1,5 +1,6 @@
 #include "tools/simulate/motion.hpp"
 #include "tools/simulate/angles.hpp"
+#include "tools/simulate/random_stream.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,23 +17,9 @@ constexpr double kGaitLag = 0.3;       // s, low-pass of the gait strength (keep
 constexpr double kDriftSmoothing = 1.0;  // s, each of the two low-passes on the speed drift
 constexpr double kArriveTolerance = 0.01;  // m short of the path end counts as arrived
 
-// SplitMix64, as the range noise uses, but seeded from a different constant: the motion stream
-// never shares numbers with the noise stream of the same seed.
-struct Rng {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double Uniform() { return static_cast<double>(Next() >> 11) * (1.0 / 9007199254740992.0); }
-  double Range(double a, double b) { return a + (b - a) * Uniform(); }
-  double Gaussian() {
-    const double u1 = 1.0 - Uniform(), u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-};
+// The carrier's own SplitMix64 stream, seeded from a different constant than the range noise:
+// the motion stream never shares numbers with the noise stream of the same seed.
+using Rng = SplitMix64;
 
 // 0 at x <= 0, 1 at x >= 1, raised cosine in between (continuous slope 0 at both ends).
 double RaisedCosine(double x) {
