@@ -1,5 +1,7 @@
 #pragma once
+#include <filesystem>
 #include <stdexcept>
+#include <string>
 
 namespace dammloam::io {
 
@@ -8,5 +10,10 @@ namespace dammloam::io {
 struct IoError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// "FILE: problem".
+[[noreturn]] inline void FailIn(const std::filesystem::path& file, const std::string& problem) {
+  throw IoError(file.string() + ": " + problem);
+}
 
 }  // namespace dammloam::io

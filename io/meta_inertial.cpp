@@ -10,19 +10,15 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void Fail(const std::filesystem::path& file, const std::string& problem) {
-  throw IoError(file.string() + ": " + problem);
-}
-
 std::vector<double> Numbers(const json& value, std::size_t count, const std::filesystem::path& file,
                             const std::string& key) {
   if (!value.is_array() || value.size() != count) {
-    Fail(file, "key \"" + key + "\" must be an array of " + std::to_string(count) + " numbers");
+    FailIn(file, "key \"" + key + "\" must be an array of " + std::to_string(count) + " numbers");
   }
   std::vector<double> out;
   for (const json& v : value) {
     if (!v.is_number() || !std::isfinite(v.get<double>())) {
-      Fail(file, "key \"" + key + "\" must be an array of " + std::to_string(count) + " numbers");
+      FailIn(file, "key \"" + key + "\" must be an array of " + std::to_string(count) + " numbers");
     }
     out.push_back(v.get<double>());
   }
@@ -35,18 +31,18 @@ Eigen::Isometry3d ReadTransform(const json& root, const std::filesystem::path& f
   const std::string key = std::string(outer) + "." + inner;
   const json& o = root.at(outer);
   if (!o.is_object() || !o.contains(inner) || !o.at(inner).is_object()) {
-    Fail(file, "key \"" + std::string(outer) + "\" must hold an object \"" + inner + "\"");
+    FailIn(file, "key \"" + std::string(outer) + "\" must hold an object \"" + inner + "\"");
   }
   const json& T = o.at(inner);
   for (const char* part : {"translation", "quaternion_xyzw"}) {
-    if (!T.contains(part)) Fail(file, "missing required key \"" + key + "." + part + "\"");
+    if (!T.contains(part)) FailIn(file, "missing required key \"" + key + "." + part + "\"");
   }
   const std::vector<double> t = Numbers(T.at("translation"), 3, file, key + ".translation");
   const std::vector<double> q = Numbers(T.at("quaternion_xyzw"), 4, file, key + ".quaternion_xyzw");
   const Eigen::Quaterniond quaternion(q[3], q[0], q[1], q[2]);
   // A unit quaternion written with six or more digits; anything further off is a mistake.
   if (std::abs(quaternion.norm() - 1.0) > 1e-3) {
-    Fail(file, "key \"" + key + ".quaternion_xyzw\" is not a unit quaternion (norm " +
+    FailIn(file, "key \"" + key + ".quaternion_xyzw\" is not a unit quaternion (norm " +
                    std::to_string(quaternion.norm()) + ")");
   }
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
@@ -66,7 +62,7 @@ void ReadNoise(const json& imu, const std::filesystem::path& file, const char* k
   if (!imu.contains(key)) return;
   const json& v = imu.at(key);
   if (!v.is_number() || !(v.get<double>() >= 0.0) || !std::isfinite(v.get<double>())) {
-    Fail(file, std::string("key \"imu.") + key + "\" must be a number >= 0");
+    FailIn(file, std::string("key \"imu.") + key + "\" must be a number >= 0");
   }
   *value = v.get<double>();
 }
@@ -88,7 +84,7 @@ void ReadInertialKeys(const json& root, const std::filesystem::path& file, Seque
   }
   if (root.contains("imu")) {
     const json& imu = root.at("imu");
-    if (!imu.is_object()) Fail(file, "key \"imu\" must be an object");
+    if (!imu.is_object()) FailIn(file, "key \"imu\" must be an object");
     ImuNoise noise;
     ReadNoise(imu, file, kGyroNoise, &noise.gyro_noise_density);
     ReadNoise(imu, file, kAccelNoise, &noise.accel_noise_density);
@@ -98,7 +94,7 @@ void ReadInertialKeys(const json& root, const std::filesystem::path& file, Seque
     if (imu.contains(kTimeOffset)) {
       const json& v = imu.at(kTimeOffset);
       if (!v.is_number() || !std::isfinite(v.get<double>()) || std::abs(v.get<double>()) > 1.0) {
-        Fail(file, std::string("key \"imu.") + kTimeOffset + "\" must be a number of seconds in [-1, 1]");
+        FailIn(file, std::string("key \"imu.") + kTimeOffset + "\" must be a number of seconds in [-1, 1]");
       }
       meta->imu_time_offset = v.get<double>();
     }

@@ -11,25 +11,21 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void Fail(const std::filesystem::path& file, const std::string& problem) {
-  throw IoError(file.string() + ": " + problem);
-}
-
 const json& Require(const json& root, const std::filesystem::path& file, const char* key) {
   const auto it = root.find(key);
-  if (it == root.end()) Fail(file, std::string("missing required key \"") + key + "\"");
+  if (it == root.end()) FailIn(file, std::string("missing required key \"") + key + "\"");
   return *it;
 }
 
 double NumberAt(const json& value, const std::filesystem::path& file, const char* key) {
-  if (!value.is_number()) Fail(file, std::string("key \"") + key + "\" must be a number");
+  if (!value.is_number()) FailIn(file, std::string("key \"") + key + "\" must be a number");
   return value.get<double>();
 }
 
 int PositiveIntAt(const json& value, const std::filesystem::path& file, const char* key) {
   if (!value.is_number_integer() || value.get<long long>() <= 0 ||
       value.get<long long>() > 1'000'000) {
-    Fail(file, std::string("key \"") + key + "\" must be a positive integer");
+    FailIn(file, std::string("key \"") + key + "\" must be a positive integer");
   }
   return value.get<int>();
 }
@@ -37,15 +33,15 @@ int PositiveIntAt(const json& value, const std::filesystem::path& file, const ch
 PointLayout ParseLayout(const json& value, const std::filesystem::path& file) {
   if (value == "xyzitr") return PointLayout::kXYZITR;
   if (value == "xyzi") return PointLayout::kXYZI;
-  Fail(file, "key \"point_layout\" must be \"xyzitr\" or \"xyzi\", got " + value.dump());
+  FailIn(file, "key \"point_layout\" must be \"xyzitr\" or \"xyzi\", got " + value.dump());
 }
 
 std::vector<double> ParseAngles(const json& value, const std::filesystem::path& file, int rings) {
-  if (!value.is_array()) Fail(file, "key \"vertical_angles_deg\" must be an array of numbers");
+  if (!value.is_array()) FailIn(file, "key \"vertical_angles_deg\" must be an array of numbers");
   std::vector<double> angles;
   for (const auto& angle : value) angles.push_back(NumberAt(angle, file, "vertical_angles_deg"));
   if (!angles.empty() && angles.size() != static_cast<std::size_t>(rings)) {
-    Fail(file, "key \"vertical_angles_deg\" has " + std::to_string(angles.size()) +
+    FailIn(file, "key \"vertical_angles_deg\" has " + std::to_string(angles.size()) +
                    " values but \"rings\" is " + std::to_string(rings));
   }
   return angles;
@@ -73,24 +69,24 @@ SequenceMeta KittiMeta() {
 
 SequenceMeta ReadMeta(const std::filesystem::path& meta_json) {
   std::ifstream in(meta_json);
-  if (!in) Fail(meta_json, "cannot open (missing meta.json?)");
+  if (!in) FailIn(meta_json, "cannot open (missing meta.json?)");
   json root;
   try {
     root = json::parse(in);
   } catch (const json::exception& e) {
-    Fail(meta_json, std::string("not valid JSON: ") + e.what());
+    FailIn(meta_json, std::string("not valid JSON: ") + e.what());
   }
-  if (!root.is_object()) Fail(meta_json, "top level must be a JSON object");
+  if (!root.is_object()) FailIn(meta_json, "top level must be a JSON object");
 
   SequenceMeta meta;
   const json& sensor = Require(root, meta_json, "sensor");
-  if (!sensor.is_string()) Fail(meta_json, "key \"sensor\" must be a string");
+  if (!sensor.is_string()) FailIn(meta_json, "key \"sensor\" must be a string");
   meta.sensor = sensor.get<std::string>();
   meta.model.rings = PositiveIntAt(Require(root, meta_json, "rings"), meta_json, "rings");
   meta.model.columns = PositiveIntAt(Require(root, meta_json, "columns"), meta_json, "columns");
   meta.model.scan_period =
       NumberAt(Require(root, meta_json, "scan_period"), meta_json, "scan_period");
-  if (!(meta.model.scan_period > 0.0)) Fail(meta_json, "key \"scan_period\" must be > 0");
+  if (!(meta.model.scan_period > 0.0)) FailIn(meta_json, "key \"scan_period\" must be > 0");
   if (root.contains("vertical_angles_deg")) {
     meta.model.vertical_angles_deg =
         ParseAngles(root["vertical_angles_deg"], meta_json, meta.model.rings);
@@ -102,7 +98,7 @@ SequenceMeta ReadMeta(const std::filesystem::path& meta_json) {
     meta.model.max_range = NumberAt(root["max_range"], meta_json, "max_range");
   }
   if (!(meta.model.min_range >= 0.0 && meta.model.min_range < meta.model.max_range)) {
-    Fail(meta_json, "keys \"min_range\"/\"max_range\" must satisfy 0 <= min_range < max_range");
+    FailIn(meta_json, "keys \"min_range\"/\"max_range\" must satisfy 0 <= min_range < max_range");
   }
   if (root.contains("point_layout")) meta.layout = ParseLayout(root["point_layout"], meta_json);
   ReadInertialKeys(root, meta_json, &meta);
@@ -123,7 +119,7 @@ void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta)
   WriteInertialKeys(meta, &root);
   std::ofstream out(meta_json);
   out << root.dump(2) << '\n';
-  if (!out) Fail(meta_json, "cannot write");
+  if (!out) FailIn(meta_json, "cannot write");
 }
 
 }  // namespace dammloam::io
