@@ -110,19 +110,20 @@ std::vector<LoopEvent> LoopClosingBackend::Process() {
     std::vector<Eigen::Isometry3d> before;
     before.reserve(keyframes_.size());
     for (const Keyframe& kf : keyframes_) before.push_back(kf.T_world_sensor);
-    Optimize();
-    ReportCorrections(events, before);
+    const PoseGraphSummary solve = Optimize();
+    ReportCorrections(events, before, solve);
   } else if (!pending.empty()) {
     PublishCorrections(keyframes_.size() - pending.size());
   }
   return events;
 }
 
-void LoopClosingBackend::Optimize() {
-  graph_.Optimize();
+PoseGraphSummary LoopClosingBackend::Optimize() {
+  const PoseGraphSummary summary = graph_.Optimize();
   ++optimizations_;
   for (Keyframe& kf : keyframes_) kf.T_world_sensor = graph_.Pose(kf.id);
   PublishCorrections(0);
+  return summary;
 }
 
 void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
@@ -275,9 +276,12 @@ bool LoopClosingBackend::DisagreesWithMap(LoopEvent& event) const {
 }
 
 void LoopClosingBackend::ReportCorrections(std::vector<LoopEvent>& events,
-                                           const std::vector<Eigen::Isometry3d>& before) const {
+                                           const std::vector<Eigen::Isometry3d>& before,
+                                           const PoseGraphSummary& solve) const {
   for (LoopEvent& event : events) {
     if (!event.started_optimization || event.query_keyframe >= before.size()) continue;
+    event.solve_ms = solve.solve_ms;
+    event.graph_nodes = static_cast<std::uint32_t>(graph_.NumNodes());
     const Eigen::Isometry3d& T_old = before[event.query_keyframe];
     const Eigen::Isometry3d& T_new = keyframes_[event.query_keyframe].T_world_sensor;
     event.correction_m = (T_new.translation() - T_old.translation()).norm();

@@ -111,14 +111,16 @@ class LoopClosingBackend {
   // Judges an accepted loop just added to the graph against the corrected map; true when it
   // should start a solve.
   bool DisagreesWithMap(LoopEvent& event) const;
-  // Tells the loops in `events` that started this solve how far it moved their query keyframe.
+  // Tells the loops in `events` that started this solve how far it moved their query keyframe
+  // and what the solve cost.
   void ReportCorrections(std::vector<LoopEvent>& events,
-                         const std::vector<Eigen::Isometry3d>& before) const;
+                         const std::vector<Eigen::Isometry3d>& before,
+                         const PoseGraphSummary& solve) const;
   // Oldest-excluded nearest keyframe within proximity_radius of the query, if any.
   std::optional<ScanContextCandidate> NearestOldKeyframe(std::uint32_t query_id) const;
   // Publishes the corrections of keyframes `first` onwards.
   void PublishCorrections(std::size_t first);
-  void Optimize();
+  PoseGraphSummary Optimize();
   // Corrected-map distance from `position` to the nearest older keyframe that holds a cloud.
   double DistanceToStoredKeyframe(const Eigen::Vector3d& position, std::uint32_t query_id) const;
   void DropCloud(std::uint32_t id);

@@ -45,6 +45,10 @@ struct LoopEvent {
   // How far the solve this loop started moved its query keyframe (0 when it started none).
   double correction_m = 0.0;
   double correction_rad = 0.0;
+  // The solve this loop started (0 when it started none): its wall time and the graph's size,
+  // so that a long run shows whether solving stays bounded as the graph grows.
+  double solve_ms = 0.0;
+  std::uint32_t graph_nodes = 0;
 };
 
 }  // namespace dammloam::backend

@@ -29,6 +29,8 @@ TEST(LoopEventJson, CarriesIdsScoresAndDecision) {
   e.started_optimization = true;
   e.correction_m = 0.31;
   e.correction_rad = 0.02;
+  e.solve_ms = 12.5;
+  e.graph_nodes = 901;
 
   const std::string line = LoopEventJsonLine(e);
   EXPECT_EQ(line.find('\n'), std::string::npos);
@@ -50,6 +52,8 @@ TEST(LoopEventJson, CarriesIdsScoresAndDecision) {
   EXPECT_TRUE(j["started_optimization"].get<bool>());
   EXPECT_DOUBLE_EQ(j["correction_m"].get<double>(), 0.31);
   EXPECT_DOUBLE_EQ(j["correction_rad"].get<double>(), 0.02);
+  EXPECT_DOUBLE_EQ(j["solve_ms"].get<double>(), 12.5);
+  EXPECT_EQ(j["graph_nodes"], 901);
   const auto T = j["T_candidate_query"].get<std::vector<double>>();
   ASSERT_EQ(T.size(), 7u);
   EXPECT_DOUBLE_EQ(T[0], 1.0);

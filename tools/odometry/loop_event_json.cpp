@@ -31,6 +31,8 @@ std::string LoopEventJsonLine(const backend::LoopEvent& event) {
       {"started_optimization", event.started_optimization},
       {"correction_m", event.correction_m},
       {"correction_rad", event.correction_rad},
+      {"solve_ms", event.solve_ms},
+      {"graph_nodes", event.graph_nodes},
   };
   return json.dump();
 }

@@ -1,6 +1,7 @@
 #include "tools/simulate/simulator.hpp"
 
 #include "tools/simulate/presets.hpp"
+#include "tools/simulate/random_stream.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -13,23 +14,8 @@ namespace dammloam::sim {
 
 namespace {
 
-// SplitMix64: a tiny, well-mixed generator. One stream per (seed, scan, column) makes the noise
-// independent of how columns are spread over threads.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double Uniform() { return (Next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-  double Gaussian() {  // Box-Muller
-    const double u1 = 1.0 - Uniform(), u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-};
-
+// One SplitMix64 stream per (seed, scan, column) makes the noise independent of how columns
+// are spread over threads.
 SplitMix64 ColumnStream(std::uint64_t seed, int scan, int column) {
   SplitMix64 mix{seed};
   mix.state = mix.Next() ^ static_cast<std::uint64_t>(scan) * 0xD1B54A32D192ED03ull;
