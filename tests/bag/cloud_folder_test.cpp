@@ -1,7 +1,5 @@
-// Folders of .pcd / .ply files as inputs (io/bag/cloud_folder.hpp, io/ply.hpp): the real HDL-32E
-// pair of ../shared/data/hdl32_pair_fast_gicp through dammloam-odometry against its published
-// relative pose; PLY files written here (ascii and binary) from a simulated sequence give the
-// sequence's poses bit for bit; PLY parsing and its errors.
+// Folders of .pcd / .ply files as inputs (io/bag/cloud_folder.hpp, io/ply.hpp): stamps from file
+// names, PLY parsing and its errors. The odometry on folders: inputs_odometry_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -26,121 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Binary() { return DAMMLOAM_BIN_DIR "/dammloam-odometry"; }
-
-std::string RunCli(const std::string& args) {
-  const auto r = test::RunCommand(Binary() + " " + args + " 2>&1");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  return r.output;
-}
-
 Scan ParseText(const std::string& text) {
   return io::ParsePly(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), "test.ply");
-}
-
-// Writes a scan as PLY: x y z intensity t ring, ascii or binary_little_endian, with a face
-// element after the vertices (ignored) and a comment.
-void WritePly(const fs::path& file, const Scan& scan, bool binary) {
-  std::ofstream out(file, std::ios::binary);
-  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\ncomment written by the test\n"
-      << "element vertex " << scan.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\n"
-      << "property float t\nproperty ushort ring\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n";
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const float v[5] = {static_cast<float>(scan.points[i].x()), static_cast<float>(scan.points[i].y()),
-                        static_cast<float>(scan.points[i].z()), scan.intensities[i], scan.times[i]};
-    const auto ring = static_cast<std::uint16_t>(scan.rings[i]);
-    if (binary) {
-      out.write(reinterpret_cast<const char*>(v), sizeof(v));
-      out.write(reinterpret_cast<const char*>(&ring), sizeof(ring));
-    } else {
-      char line[256];
-      // %.9g: a float32 printed so that it reads back to the same float.
-      std::snprintf(line, sizeof(line), "%.9g %.9g %.9g %.9g %.9g %u\n", v[0], v[1], v[2], v[3], v[4], ring);
-      out << line;
-    }
-  }
-}
-
-// The real pair: T_target_source from the registration of the second scan onto the first against
-// fast_gicp's relative.txt (README: the estimates agree within 1-2 cm and 0.4 deg).
-TEST(CloudFolder, Hdl32ePairOfPcdFilesMatchesTheGicpRelativePose) {
-  if (!fs::exists(Binary())) GTEST_SKIP() << Binary() << " not built";
-  const fs::path data = test::DataDir() / "hdl32_pair_fast_gicp";
-  DAMMLOAM_REQUIRE_DATA(data / "relative.txt");
-  test::TempDir tmp;
-  fs::create_directories(tmp / "pair");
-  for (const char* name : {"251370668.pcd", "251371071.pcd"}) fs::copy_file(data / name, tmp / "pair" / name);
-  // HDL-32E: 32 rings from +10.67 to -30.67 deg, ~2170 columns at 10 Hz (as odometry_real_pair_test).
-  SensorModel hdl32;
-  hdl32.rings = 32;
-  hdl32.columns = 2170;
-  for (int r = 0; r < 32; ++r) hdl32.vertical_angles_deg.push_back(10.67 - r * (41.34 / 31.0));
-  hdl32.max_range = 120.0;
-  io::WriteMeta(tmp / "hdl32.json", io::SequenceMeta{"hdl-32e", hdl32, io::PointLayout::kXYZI});
-  const std::string log = RunCli((tmp / "pair").string() + " --sensor-meta " + (tmp / "hdl32.json").string() +
-                              " --no-loop-closure --out " + (tmp / "poses.tum").string());
-  EXPECT_NE(log.find("2 cloud files, stamps from the file names (ms)"), std::string::npos) << log;
-  const auto poses = io::ReadTum(tmp / "poses.tum");
-  ASSERT_EQ(poses.size(), 2u);
-  EXPECT_DOUBLE_EQ(poses[0].t, 251370.668);
-  EXPECT_DOUBLE_EQ(poses[1].t, 251371.071);
-  std::ifstream in(data / "relative.txt");
-  Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) in >> m(r, c);
-  }
-  ASSERT_TRUE(in);
-  Eigen::Isometry3d expected;
-  expected.matrix() = m;
-  const Eigen::Isometry3d got = poses[0].T.inverse() * poses[1].T;
-  const Vector6d error = LogSE3(expected.inverse() * got);
-  std::cout << "registered t = " << got.translation().transpose() << ", relative.txt t = "
-            << expected.translation().transpose() << ": " << error.head<3>().norm() * 100 << " cm, "
-            << error.tail<3>().norm() * 180 / M_PI << " deg\n";
-  EXPECT_LT(error.head<3>().norm(), 0.05);
-  EXPECT_LT(error.tail<3>().norm(), 0.5 * M_PI / 180);
-}
-
-// PLY files named by the scans' stamps give the poses of the sequence they came from, bit for bit.
-TEST(CloudFolder, PlyFilesGiveThePosesOfTheirSequenceBitForBit) {
-  if (!fs::exists(Binary())) GTEST_SKIP() << Binary() << " not built";
-  test::TempDir tmp;
-  constexpr int kScans = 8, kFirstScan = 25;
-  sim::SimOptions options;
-  options.num_scans = kFirstScan + kScans;
-  sim::SensorSpec sensor = sim::Vlp16();
-  sensor.columns = 900;
-  const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
-  std::vector<Scan> scans;
-  for (int i = 0; i < kScans; ++i) {
-    Scan scan = simulator.SimulateScan(kFirstScan + i);
-    scan.t_start = StampSeconds(SecondsToStamp(scan.t_start));
-    scans.push_back(std::move(scan));
-  }
-  test::WriteSequence(tmp / "seq", scans,
-                      io::SequenceMeta{"vlp-16-900", simulator.sensor_model(), io::PointLayout::kXYZITR});
-  const io::SequenceReader reader = io::SequenceReader::Open(tmp / "seq");
-  std::istringstream times(test::ReadText(tmp / "seq" / "times.txt"));
-  fs::create_directories(tmp / "ply");
-  std::string stamp;
-  for (std::size_t i = 0; i < reader.size(); ++i) {
-    ASSERT_TRUE(std::getline(times, stamp));
-    // Half ascii, half binary; named by the stamp as times.txt writes it.
-    WritePly(tmp / "ply" / (stamp + ".ply"), reader.ReadScan(i), i % 2 == 0);
-  }
-  const std::string meta = " --sensor-meta " + (tmp / "seq" / "meta.json").string();
-  RunCli((tmp / "seq").string() + " --quiet --out " + (tmp / "seq.tum").string());
-  const std::string log = RunCli((tmp / "ply").string() + meta + " --out " + (tmp / "ply.tum").string());
-  EXPECT_NE(log.find("8 cloud files, stamps from the file names (s)"), std::string::npos) << log;
-  const std::string expected = test::ReadText(tmp / "seq.tum");
-  ASSERT_EQ(std::count(expected.begin(), expected.end(), '\n'), kScans);
-  EXPECT_EQ(test::ReadText(tmp / "ply.tum"), expected);
-  // --scan-period numbers the files instead (other stamps, so only the count is compared).
-  RunCli((tmp / "ply").string() + meta + " --quiet --scan-period 0.1 --out " + (tmp / "period.tum").string());
-  const auto period = io::ReadTum(tmp / "period.tum");
-  ASSERT_EQ(period.size(), static_cast<std::size_t>(kScans));
-  EXPECT_DOUBLE_EQ(period[3].t, 0.30000000000000004);
 }
 
 TEST(CloudFolder, StampsFromNumericNames) {

@@ -1,13 +1,13 @@
 // Ouster and Velodyne captures as inputs of dammloam-odometry (tools/odometry/pcap_source.cpp):
 // the real pcaps of ../shared/data (ouster_sdk_pcaps, velodyne_ouster_pcaps_rust_lidar_utils),
-// skipped when that folder is absent.
+// skipped when that folder is absent. The odometry on them: inputs_odometry_test.cpp.
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "io/io_error.hpp"
 #include "io/tum.hpp"
-#include "tests/support/data_dir.hpp"
+#include "tests/bag/inputs_fixture.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/tools/test_support.hpp"
@@ -19,12 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // m, odometry vs the reference poses (measured 2026-11-29: 1.7 cm at frame 1, 2.7 cm at frame 2)
-constexpr double kOusterTolerance = 0.04;
-constexpr std::size_t kHdl32Scans = 5;
-constexpr double kHdl32SpeedTolerance = 1.5;  // m/s (measured 15.5 m/s)
 
-fs::path OusterDir() { return test::DataDir() / "ouster_sdk_pcaps"; }
-fs::path RustDir() { return test::DataDir() / "velodyne_ouster_pcaps_rust_lidar_utils"; }
+using test::OusterDir;
+using test::RustDir;
 
 struct Decoded {
   std::vector<std::size_t> points;
@@ -89,47 +86,13 @@ TEST(OusterPcap, MetadataIsFoundBesideTheCapture) {
   EXPECT_EQ(tools::FindOusterMetadata(OusterDir() / "OS-1-64_1024x10_fw20.pcap"), std::nullopt);
 }
 
-std::vector<io::StampedPose> RunOdometry(const std::string& args, const fs::path& out) {
-  const std::string binary = DAMMLOAM_BIN_DIR "/dammloam-odometry";
-  const auto r = test::RunCommand(binary + " " + args + " --no-loop-closure --out " + out.string() + " 2>&1");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  std::cout << r.output;
-  return r.exit_code == 0 ? io::ReadTum(out) : std::vector<io::StampedPose>{};
-}
-
-// The 3 frames of the OS1-128 street capture: the odometry against Ouster's reference poses
-// (a KISS-ICP estimate, README: frame 1 at x = +0.245 m, frame 2 at +0.498 m).
-TEST(OusterPcap, OdometryOverTheThreeFramesFollowsTheReferencePoses) {
-  const std::string binary = DAMMLOAM_BIN_DIR "/dammloam-odometry";
-  if (!fs::exists(binary)) GTEST_SKIP() << binary << " not built";
-  const fs::path pcap = OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
-  DAMMLOAM_REQUIRE_DATA(pcap);
-  test::TempDir tmp;
-  const auto poses = RunOdometry(pcap.string(), tmp / "poses.tum");  // metadata found beside it
-  ASSERT_EQ(poses.size(), 3u);
-  std::ifstream kitti(OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3_poses_kitti.txt");
-  for (std::size_t i = 0; i < 3; ++i) {
-    Eigen::Matrix<double, 3, 4> m;
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 4; ++c) kitti >> m(r, c);
-    }
-    ASSERT_TRUE(kitti) << "reference pose " << i;
-    const Eigen::Vector3d expected = m.col(3);
-    const Eigen::Vector3d got = poses[0].T.inverse() * poses[i].T.translation();
-    std::cout << "frame " << i << ": odometry " << got.transpose() << ", reference " << expected.transpose()
-              << ", difference " << (got - expected).norm() << " m\n";
-    EXPECT_LT((got - expected).norm(), kOusterTolerance) << "frame " << i;
-  }
-  EXPECT_NEAR(poses[1].t - poses[0].t, 0.1, 0.002);  // stamps from the column timestamps, 10 Hz
-}
-
 // Velodyne captures: the HDL-32E drive (about 5 revolutions at 15 m/s) and the VLP-16 capture.
 TEST(VelodynePcap, CapturesGiveTheirCompleteScans) {
   DAMMLOAM_REQUIRE_DATA(RustDir() / "README.md");
   const fs::path hdl32 = fs::path(DAMMLOAM_SOURCE_DIR) / "drivers" / "calibration" / "HDL32E.yaml";
   const Decoded drive = DecodeAll(RustDir() / "hdl32e_example.pcap", {"", "hdl32e", hdl32});
   std::cout << "hdl32e_example: " << drive.points.size() << " scans\n";
-  EXPECT_EQ(drive.points.size(), kHdl32Scans);
+  EXPECT_EQ(drive.points.size(), 5u);
   for (std::size_t p : drive.points) EXPECT_GT(p, 40000u);  // 44.1-44.6 k
   EXPECT_EQ(drive.model.rings, 32);
   // The VLP-16 capture covers 1.1 revolutions starting far from azimuth 0: two partial scans and
@@ -148,23 +111,6 @@ TEST(VelodynePcap, CapturesGiveTheirCompleteScans) {
   EXPECT_IO_ERROR(DecodeAll(ouster, {"", "hdl32e", hdl32}), ouster.string() + ": no complete Velodyne scan (0 data packets");
   EXPECT_IO_ERROR(DecodeAll(RustDir() / "hdl32e_example.pcap", {RustDir() / "ouster_os1_64_example.json", "", ""}),
                   "hdl32e_example.pcap: no complete Ouster frame");
-}
-
-TEST(VelodynePcap, OdometryOnTheHdl32eDrive) {
-  const std::string binary = DAMMLOAM_BIN_DIR "/dammloam-odometry";
-  if (!fs::exists(binary)) GTEST_SKIP() << binary << " not built";
-  DAMMLOAM_REQUIRE_DATA(RustDir() / "hdl32e_example.pcap");
-  test::TempDir tmp;
-  const fs::path hdl32 = fs::path(DAMMLOAM_SOURCE_DIR) / "drivers" / "calibration" / "HDL32E.yaml";
-  const auto poses = RunOdometry((RustDir() / "hdl32e_example.pcap").string() +
-                                     " --velodyne-model hdl32e --velodyne-calibration " + hdl32.string(),
-                                 tmp / "poses.tum");
-  ASSERT_EQ(poses.size(), kHdl32Scans);
-  const double distance = (poses.back().T.translation() - poses.front().T.translation()).norm();
-  const double speed = distance / (poses.back().t - poses.front().t);
-  std::cout << "HDL-32E drive: " << distance << " m in " << poses.back().t - poses.front().t << " s = " << speed
-            << " m/s (GPS RMC: 28.8 kn = 14.8 m/s)\n";
-  EXPECT_NEAR(speed, 14.8, kHdl32SpeedTolerance);
 }
 
 TEST(Pcap, TruncatedCaptureIsAnErrorNamingTheRecordAndOffset) {

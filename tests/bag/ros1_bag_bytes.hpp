@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,11 +56,13 @@ inline std::string Ros1ConnectionRecord(const Ros1Connection& c) {
 inline std::string Ros1Time(std::uint32_t sec, std::uint32_t nsec) { return Ros1Le(sec) + Ros1Le(nsec); }
 
 // A bag with `per_chunk` messages per chunk and the index section (or index_pos 0 when
-// `indexed` is false, as a bag whose recording was cut off).
+// `indexed` is false, as a bag whose recording was cut off). `compress` turns a chunk's records
+// into the chunk data (identity: stored, whatever `compression` says).
 inline std::string BuildRos1Bag(const std::vector<Ros1Connection>& connections,
                                 const std::vector<Ros1Message>& messages,
                                 const std::string& compression = "none", std::size_t per_chunk = 2,
-                                bool indexed = true) {
+                                bool indexed = true,
+                                const std::function<std::string(const std::string&)>& compress = {}) {
   std::string body;
   std::string chunk_infos;
   std::uint32_t chunks = 0;
@@ -89,7 +92,7 @@ inline std::string BuildRos1Bag(const std::vector<Ros1Connection>& connections,
     const std::uint64_t chunk_pos = header_size + body.size();
     body += Ros1Record({{"op", std::string(1, '\x05')}, {"compression", compression},
                         {"size", Ros1Le<std::uint32_t>(static_cast<std::uint32_t>(chunk.size()))}},
-                       chunk);
+                       compress ? compress(chunk) : chunk);
     std::string info_data;
     for (const auto& [conn, count] : counts) {
       body += Ros1Record({{"op", std::string(1, '\x04')}, {"ver", Ros1Le<std::uint32_t>(1)}, {"conn", Ros1Le(conn)},

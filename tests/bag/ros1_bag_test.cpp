@@ -1,7 +1,7 @@
 // ROS 1 bags (format 2.0): bags written by Debian's python3-rosbag (ROS Noetic's own writer) with
-// stored, bz2 and lz4 chunks read back value for value, and dammloam-odometry on them against the
-// same scans as a sequence directory, bit for bit; bags built byte by byte from the format
+// stored, bz2 and lz4 chunks read back value for value; bags built byte by byte from the format
 // specification (tests/bag/ros1_bag_bytes.hpp) for an unindexed bag and every kind of damage.
+// dammloam-odometry on them: inputs_odometry_test.cpp.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -10,31 +10,19 @@
 #include "io/bag/ros1_bag.hpp"
 #include "io/bag/scan_source.hpp"
 #include "io/io_error.hpp"
-#include "tests/bag/bag_fixture.hpp"
+#include "tests/bag/inputs_fixture.hpp"
 #include "tests/bag/ros1_bag_bytes.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/text_file.hpp"
 #include "tests/tools/test_support.hpp"
-#include "tools/simulate/simulator.hpp"
 
 namespace dammloam {
 namespace {
 
 namespace fs = std::filesystem;
+using test::RosbagMissing;
+using test::WriteRosbag;
 
-// Empty when /usr/bin/python3 imports Debian's rosbag, else why not.
-std::string RosbagMissing() {
-  if (test::RunCommand("/usr/bin/python3 -c 'import rosbag, roslz4, sensor_msgs.msg' >/dev/null 2>&1").exit_code != 0) {
-    return "python3-rosbag, python3-roslz4 or python3-sensor-msgs not installed (bash deploy/install-deps.sh)";
-  }
-  return "";
-}
-
-void WriteRosbag(const fs::path& seq, const fs::path& bag, const std::string& compression) {
-  const auto r = test::RunCommand("/usr/bin/python3 " + (test::BagTestDir() / "write_ros1_bag.py").string() + " " +
-                                  seq.string() + " " + bag.string() + " " + compression + " 2>&1");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-}
 
 void WriteBytes(const fs::path& file, const std::string& bytes) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
@@ -91,50 +79,6 @@ TEST(Ros1Bag, RosbagsStoredBz2AndLz4ReadBackValueForValue) {
     }
     EXPECT_GE(chunks, 2u);
   }
-}
-
-TEST(Ros1Bag, OdometryPosesFromRosbagsEqualPosesFromTheSequenceBitForBit) {
-  const std::string binary = DAMMLOAM_BIN_DIR "/dammloam-odometry";
-  if (!fs::exists(binary)) GTEST_SKIP() << binary << " not built";
-  if (const std::string why = RosbagMissing(); !why.empty()) GTEST_SKIP() << why;
-  test::TempDir tmp;
-  constexpr int kScans = 10, kFirstScan = 25;  // at cruise speed, after the simulator's ramp-up
-  sim::SimOptions options;
-  options.num_scans = kFirstScan + kScans;
-  sim::SensorSpec sensor = sim::Vlp16();
-  sensor.columns = 900;
-  const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
-  std::vector<Scan> scans;
-  for (int i = 0; i < kScans; ++i) {
-    Scan scan = simulator.SimulateScan(kFirstScan + i);
-    scan.t_start = StampSeconds(SecondsToStamp(scan.t_start));  // a whole nanosecond
-    scans.push_back(std::move(scan));
-  }
-  test::WriteSequence(tmp / "seq", scans,
-                      io::SequenceMeta{"vlp-16-900", simulator.sensor_model(), io::PointLayout::kXYZITR});
-  auto run = [&](const fs::path& input, const std::string& name, const std::string& extra) {
-    const auto r = test::RunCommand(binary + " " + input.string() + " --quiet --out " + (tmp / (name + ".tum")).string() +
-                                    " " + extra + " 2>&1");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return test::ReadText(tmp / (name + ".tum"));
-  };
-  const std::string expected = run(tmp / "seq", "seq", "");
-  ASSERT_EQ(std::count(expected.begin(), expected.end(), '\n'), kScans);
-  for (const std::string compression : {"none", "bz2", "lz4"}) {
-    WriteRosbag(tmp / "seq", tmp / (compression + ".bag"), compression);
-    EXPECT_EQ(run(tmp / (compression + ".bag"), compression,
-                  "--sensor-meta " + (tmp / "seq" / "meta.json").string()),
-              expected)
-        << compression;
-  }
-  // --topic picks the cloud topic; a topic of another type is refused by name.
-  EXPECT_EQ(run(tmp / "lz4.bag", "topic", "--topic /points --sensor-meta " + (tmp / "seq" / "meta.json").string()),
-            expected);
-  const auto r = test::RunCommand(binary + " " + (tmp / "lz4.bag").string() + " --topic /chatter --out " +
-                                  (tmp / "x.tum").string() + " 2>&1");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("topic /chatter is std_msgs/msg/String, not sensor_msgs/msg/PointCloud2"), std::string::npos)
-      << r.output;
 }
 
 // --- bags built byte by byte -----------------------------------------------------------------
