@@ -4,7 +4,12 @@ directory (scans/*.bin: x y z intensity t ring as float32; times.txt) as a ROS 1
 python3-rosbag (ROS Noetic's rosbag, not dammloam's code), compressed as asked, in chunks of about
 200 kB so that a bag holds several. Topics: /points (sensor_msgs/PointCloud2, fields x y z
 intensity t ring as dammloam publishes them, stamped at the scan start) and /chatter
-(std_msgs/String) in between. Run with /usr/bin/python3 (Debian's ROS packages)."""
+(std_msgs/String) in between. Run with /usr/bin/python3 (Debian's ROS packages).
+
+write_ros1_bag.py --large OUT.bag MESSAGES POINTS: a bag of MESSAGES copies of one synthetic
+OS1-128-sized cloud (POINTS points, stored chunks, stamps 0.1 s apart), for the memory
+measurement of a bag larger than memory; the message is serialised once and written raw."""
+import io
 import os
 import struct
 import sys
@@ -16,7 +21,35 @@ from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import String
 
 
+def large(out, messages, points):
+    import math
+    data = bytearray()
+    for k in range(points):
+        a = 2 * math.pi * (k % 1024) / 1024
+        r = 5.0 + (k // 1024) * 0.01
+        data += struct.pack("<fffffH2x", r * math.cos(a), r * math.sin(a), 0.001 * (k // 1024), 1.0,
+                            0.1 * (k % 1024) / 1024, (k // 1024) % 128)
+    msg = PointCloud2()
+    msg.header.frame_id = "lidar"
+    msg.height, msg.width = 1, points
+    msg.fields = [PointField(n, 4 * i, PointField.FLOAT32, 1) for i, n in enumerate(["x", "y", "z", "intensity", "t"])]
+    msg.fields.append(PointField("ring", 20, PointField.UINT16, 1))
+    msg.point_step, msg.row_step = 24, 24 * points
+    msg.data = bytes(data)
+    msg.is_dense = True
+    with rosbag.Bag(out, "w") as bag:
+        for i in range(messages):
+            msg.header.seq = i
+            msg.header.stamp = genpy.Time(1000 + i // 10, (i % 10) * 100000000)
+            buff = io.BytesIO()
+            msg.serialize(buff)
+            bag.write("/points", (msg._type, buff.getvalue(), msg._md5sum, PointCloud2), msg.header.stamp, raw=True)
+
+
 def main():
+    if sys.argv[1] == "--large":
+        large(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
+        return
     seq, out, compression = sys.argv[1], sys.argv[2], sys.argv[3]
     times = [line.strip() for line in open(os.path.join(seq, "times.txt")) if line.strip()]
     fields = [PointField("x", 0, PointField.FLOAT32, 1), PointField("y", 4, PointField.FLOAT32, 1),
