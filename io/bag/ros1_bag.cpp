@@ -296,7 +296,8 @@ void Ros1Bag::ScanConnections() {
     }
   }
   for (const auto& [id, c] : connections_) {
-    auto it = std::find_if(topics_.begin(), topics_.end(), [&](const BagTopic& t) { return t.name == c.topic; });
+    const std::string& topic = c.topic;  // clang 14 does not capture structured bindings
+    auto it = std::find_if(topics_.begin(), topics_.end(), [&](const BagTopic& t) { return t.name == topic; });
     if (it == topics_.end()) {
       topics_.push_back({c.topic, Ros2Spelling(c.type), kRos1Serialization, 0});
       it = topics_.end() - 1;
