@@ -6,18 +6,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/geometry/se3.hpp"
 #include "io/bag/cloud_folder.hpp"
+#include "io/bag/scan_source.hpp"
+#include "io/pcd/labelled_pcd.hpp"
 #include "io/io_error.hpp"
 #include "io/ply.hpp"
-#include "io/sequence_io.hpp"
-#include "io/tum.hpp"
 #include "tests/bag/bag_fixture.hpp"
-#include "tests/support/data_dir.hpp"
 #include "tests/support/temp_dir.hpp"
-#include "tests/support/text_file.hpp"
 #include "tests/tools/test_support.hpp"
-#include "tools/simulate/simulator.hpp"
 
 namespace dammloam {
 namespace {
@@ -44,6 +40,42 @@ TEST(CloudFolder, StampsFromNumericNames) {
   ASSERT_TRUE(s);
   EXPECT_EQ(unit, "s");
   EXPECT_DOUBLE_EQ((*s)[0], 12.5);
+}
+
+// The three PCD encodings io/pcd reads, named by decimal stamps; a broken file is an error
+// naming it.
+TEST(CloudFolder, PcdEncodingsAndABrokenFile) {
+  test::TempDir tmp;
+  fs::create_directories(tmp / "clouds");
+  io::LabelledCloud cloud;
+  for (int i = 0; i < 200; ++i) {
+    cloud.points.emplace_back(1.0 + 0.01 * i, -2.0 + 0.5 * (i % 7), 0.25 * (i % 3));
+    cloud.intensities.push_back(static_cast<float>(i % 50));
+  }
+  cloud.points.emplace_back(0.0, 0.0, 0.0);  // an invalid return, dropped
+  cloud.intensities.push_back(0.0f);
+  io::WriteLabelledPcd(tmp / "clouds" / "10.1.pcd", cloud, io::PcdEncoding::kAscii);
+  io::WriteLabelledPcd(tmp / "clouds" / "10.2.pcd", cloud, io::PcdEncoding::kBinary);
+  io::WriteLabelledPcd(tmp / "clouds" / "10.3.pcd", cloud, io::PcdEncoding::kBinaryCompressed);
+  auto source = io::OpenScanSource(tmp / "clouds");
+  EXPECT_EQ(source->kind(), "cloud folder");
+  EXPECT_EQ(source->size(), std::optional<std::size_t>(3));
+  for (int k = 0; k < 3; ++k) {
+    const auto scan = source->Next();
+    ASSERT_TRUE(scan);
+    EXPECT_DOUBLE_EQ(scan->t_start, 10.1 + 0.1 * k);
+    ASSERT_EQ(scan->size(), 200u);
+    for (std::size_t i = 0; i < 200; ++i) {
+      EXPECT_NEAR((scan->points[i] - cloud.points[i]).norm(), 0.0, 1e-6) << "file " << k << " point " << i;
+      EXPECT_EQ(scan->intensities[i], cloud.intensities[i]);
+    }
+  }
+  EXPECT_FALSE(source->Next());
+  std::ofstream(tmp / "clouds" / "10.4.ply") << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                               "property float y\nproperty float z\nend_header\n1 2 3\n";
+  auto broken = io::OpenScanSource(tmp / "clouds");
+  for (int k = 0; k < 3; ++k) broken->Next();
+  EXPECT_IO_ERROR(broken->Next(), (tmp / "clouds" / "10.4.ply").string() + ": PLY truncated");
 }
 
 TEST(Ply, AsciiAndBinaryFieldsAndTimes) {
