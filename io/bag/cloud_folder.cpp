@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "core/cloud/point_cloud2.hpp"
 #include "io/io_error.hpp"
@@ -64,6 +65,34 @@ Scan ReadCloudFile(const fs::path& file) {
   return scan;
 }
 
+// The beams of a spinning sensor from a cloud without rings: the elevations of its returns
+// between 2 and 60 m, sorted, split where consecutive ones are more than 0.3 deg apart; clusters
+// holding at least 0.2 % of the returns are beams, at their median elevation (highest first).
+// Separates beams 1 deg or more apart (VLP-16, HDL-32E, HDL-64E's 0.4-0.5 deg only in part);
+// nullopt when fewer than 4 or more than 256 beams come out.
+std::optional<std::vector<double>> BeamsFromElevations(const Scan& scan) {
+  std::vector<double> elevation;
+  elevation.reserve(scan.size());
+  for (const Eigen::Vector3d& p : scan.points) {
+    const double range = p.norm();
+    if (range < 2.0 || range > 60.0) continue;
+    elevation.push_back(std::atan2(p.z(), p.head<2>().norm()) * 180.0 / M_PI);
+  }
+  if (elevation.size() < 1000) return std::nullopt;
+  std::sort(elevation.begin(), elevation.end());
+  const std::size_t min_points = std::max<std::size_t>(20, elevation.size() / 500);
+  std::vector<double> beams;
+  std::size_t first = 0;
+  for (std::size_t i = 1; i <= elevation.size(); ++i) {
+    if (i < elevation.size() && elevation[i] - elevation[i - 1] <= 0.3) continue;
+    if (i - first >= min_points) beams.push_back(elevation[first + (i - first) / 2]);
+    first = i;
+  }
+  if (beams.size() < 4 || beams.size() > 256) return std::nullopt;
+  std::reverse(beams.begin(), beams.end());
+  return beams;
+}
+
 class CloudFolderSource : public ScanSource {
  public:
   CloudFolderSource(const fs::path& dir, const ScanSourceOptions& options)
@@ -96,6 +125,16 @@ class CloudFolderSource : public ScanSource {
       std::optional<Scan> second;
       if (files_.size() > 1) second = Read(1);
       model_ = GuessSensorModel(*first_, first_->size(), 1, second ? &*second : nullptr);
+      if (!first_->has_rings()) {
+        if (const auto beams = BeamsFromElevations(*first_)) {
+          model_.rings = static_cast<int>(beams->size());
+          model_.vertical_angles_deg = *beams;
+          model_.columns = static_cast<int>((first_->size() + beams->size() - 1) / beams->size());
+          model_origin_ = ", " + std::to_string(beams->size()) + " beams from the elevations of the first cloud";
+        } else {
+          model_origin_ = ", no beams found in the elevations of the first cloud";
+        }
+      }
     } else {
       model_ = ReadMeta(options.sensor_meta).model;
     }
@@ -112,7 +151,7 @@ class CloudFolderSource : public ScanSource {
   }
   std::optional<std::vector<StampedPose>> ReadGroundTruth() const override { return std::nullopt; }
   std::string Describe() const override {
-    return std::to_string(files_.size()) + " cloud files, stamps from the " + stamp_origin_;
+    return std::to_string(files_.size()) + " cloud files, stamps from the " + stamp_origin_ + model_origin_;
   }
 
  private:
@@ -127,6 +166,7 @@ class CloudFolderSource : public ScanSource {
   std::vector<fs::path> files_;
   std::vector<double> stamps_;
   std::string stamp_origin_;
+  std::string model_origin_;
   std::optional<Scan> first_;
   SensorModel model_;
   std::size_t next_ = 0;

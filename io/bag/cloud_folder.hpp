@@ -25,7 +25,9 @@ std::optional<std::vector<double>> StampsFromNames(const std::vector<std::string
 // io/ply.hpp). Points exactly at the origin or not finite are dropped. Stamps from the names
 // (StampsFromNames), else file index x options.scan_period (0.1 s when 0); a given
 // options.scan_period always wins. The sensor model comes from options.sensor_meta or is guessed
-// like a bag's.
+// like a bag's; for clouds without a ring field the beams are taken from the elevations of the
+// first cloud's returns (clusters more than 0.3 deg apart: VLP-16, HDL-32E), which gives the
+// rings, their vertical angles and columns = points / rings. Describe() says which.
 std::unique_ptr<ScanSource> OpenCloudFolder(const std::filesystem::path& dir,
                                             const ScanSourceOptions& options);
 

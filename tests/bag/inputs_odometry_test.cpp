@@ -176,6 +176,13 @@ TEST(CloudFolder, Hdl32ePairOfPcdFilesMatchesTheGicpRelativePose) {
   io::WriteMeta(tmp / "hdl32.json", io::SequenceMeta{"hdl-32e", hdl32, io::PointLayout::kXYZI});
   const std::string log = RunCli((tmp / "pair").string() + " --sensor-meta " + (tmp / "hdl32.json").string() +
                               " --no-loop-closure --out " + (tmp / "poses.tum").string());
+  // Without --sensor-meta the 32 beams come from the elevations of the first cloud: same poses.
+  const std::string guessed = RunCli((tmp / "pair").string() + " --no-loop-closure --out " + (tmp / "guessed.tum").string());
+  EXPECT_NE(guessed.find("32 beams from the elevations of the first cloud"), std::string::npos) << guessed;
+  EXPECT_EQ(guessed.find("warn"), std::string::npos) << guessed;
+  const auto guessed_poses = io::ReadTum(tmp / "guessed.tum");
+  ASSERT_EQ(guessed_poses.size(), 2u);
+  EXPECT_LT((guessed_poses[1].T.translation() - io::ReadTum(tmp / "poses.tum")[1].T.translation()).norm(), 0.01);
   EXPECT_NE(log.find("2 cloud files, stamps from the file names (ms)"), std::string::npos) << log;
   const auto poses = io::ReadTum(tmp / "poses.tum");
   ASSERT_EQ(poses.size(), 2u);

@@ -40,12 +40,13 @@ std::unique_ptr<io::ScanSource> OpenSource(const RunnerOptions& o) {
   if (!o.quiet && !source->Describe().empty()) {
     spdlog::info("{}: {}", o.sequence.string(), source->Describe());
   }
-  if (source->kind() == "cloud folder" && o.sensor_meta.empty()) {
-    // Without rings nothing tells the beam count: the guess keeps the default 64 rings, and the
-    // range image (normals, classes) of a 16- or 32-beam sensor is then wrong (the HDL-32E pair
-    // of ../shared/data registers 38 cm off instead of 3 cm).
-    spdlog::warn("{}: clouds from files carry no sensor model; give --sensor-meta meta.json "
-                 "(rings, columns, scan_period, vertical_angles_deg) for real data",
+  if (source->kind() == "cloud folder" && o.sensor_meta.empty() &&
+      source->Describe().find("no beams found") != std::string::npos) {
+    // Without rings or beams nothing tells the beam count: the guess keeps the default 64 rings,
+    // and the range image (normals, classes) of another sensor is then wrong (the HDL-32E pair of
+    // ../shared/data registers 38 cm off that way instead of 3 cm).
+    spdlog::warn("{}: the clouds have no ring field and no beams were found in their elevations; "
+                 "give --sensor-meta meta.json (rings, columns, scan_period, vertical_angles_deg)",
                  o.sequence.string());
   }
   if (!o.quiet && source->kind() != "sequence" && o.sensor_meta.empty()) {
