@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <numbers>
 
 #include "core/cloud/point_cloud2.hpp"
 #include "io/io_error.hpp"
@@ -76,7 +77,7 @@ std::optional<std::vector<double>> BeamsFromElevations(const Scan& scan) {
   for (const Eigen::Vector3d& p : scan.points) {
     const double range = p.norm();
     if (range < 2.0 || range > 60.0) continue;
-    elevation.push_back(std::atan2(p.z(), p.head<2>().norm()) * 180.0 / M_PI);
+    elevation.push_back(std::atan2(p.z(), p.head<2>().norm()) * 180.0 / std::numbers::pi);
   }
   if (elevation.size() < 1000) return std::nullopt;
   std::sort(elevation.begin(), elevation.end());
