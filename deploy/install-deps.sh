@@ -23,8 +23,12 @@ PACKAGES=(
   iproute2 openssl
   # libFuzzer targets (tools/fuzz.sh): clang and its runtime (libFuzzer, ASan, UBSan).
   clang-14 libclang-rt-14-dev
-  # Recorded bags (io/bag): rosbag2 SQLite storage, MCAP chunk compression, CRC-32.
-  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
+  # Recorded bags (io/bag): rosbag2 SQLite storage, MCAP and ROS 1 bag chunk compression
+  # (zstd, lz4, bz2), CRC-32.
+  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev libbz2-dev
+  # The ROS 1 bag tests' independent writer (tests/bag/write_ros1_bag.py, run by /usr/bin/python3):
+  # Debian's packaging of ROS Noetic's rosbag, its lz4 chunks and the message classes.
+  python3-rosbag python3-roslz4 python3-sensor-msgs
   # The bag tests' independent MCAP writer and reader (@mcap/core, tests/bag/node); the bridge
   # tests' Foxglove client (tests/bridge/node) and the bridge page's bundler (tools/bridge/web).
   nodejs

@@ -5,7 +5,7 @@
 # kept crash inputs of tests/fuzz/regressions/<target>/ are replayed, then the fuzzer runs.
 #
 #   bash tools/fuzz.sh SECONDS [TARGET...]     targets: ouster velodyne pcap point_cloud map_store config mcap
-#                                             pointcloud2_cdr
+#                                             pointcloud2_cdr ros1_bag ply
 #
 # Environment: FUZZ_BUILD_DIR (default build-asan, shared with tools/run-tests.sh), JOBS (build
 # jobs and targets fuzzed at once, default 1).
@@ -15,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-ALL_TARGETS=(ouster velodyne pcap point_cloud map_store config mcap pointcloud2_cdr)
+ALL_TARGETS=(ouster velodyne pcap point_cloud map_store config mcap pointcloud2_cdr ros1_bag ply)
 usage() { echo "usage: bash tools/fuzz.sh SECONDS [TARGET...]   (targets: ${ALL_TARGETS[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 SECONDS_PER_TARGET=$1
@@ -55,7 +55,8 @@ max_len() {
   case $1 in
     ouster | velodyne | pcap) echo 65536 ;;
     point_cloud | pointcloud2_cdr) echo 8192 ;;
-    mcap) echo 65536 ;;
+    mcap | ros1_bag) echo 65536 ;;
+    ply) echo 16384 ;;
     map_store | config) echo 16384 ;;
   esac
 }
@@ -78,6 +79,13 @@ write_dict() {
                    '1e308' '-1' 'true' 'false' 'auto' 'off') ;;
     mcap) sources=(io/bag/mcap_reader.cpp io/bag/decompress.cpp io/bag/bag_scans.cpp)
           extra=('MCAP0' 'zstd' 'lz4' 'ros2msg' 'cdr' 'ros2' 'sensor_msgs/msg/PointCloud2') ;;
+    ros1_bag) sources=(io/bag/ros1_bag.cpp io/bag/decompress.cpp)
+              extra=('#ROSBAG V2.0' 'op=' 'index_pos=' 'conn=' 'topic=' 'type=' 'time=' 'compression='
+                     'size=' 'none' 'bz2' 'lz4' 'BZh9' 'sensor_msgs/PointCloud2') ;;
+    ply) sources=(io/ply.cpp)
+         extra=('ply' 'format ascii 1.0' 'format binary_little_endian 1.0' 'element vertex '
+                'property float ' 'property double ' 'property list uchar int ' 'end_header' 'comment'
+                'intensity' 'time' 'ring' 'nan' 'inf' '1e308') ;;
     pointcloud2_cdr) sources=(core/cloud/point_cloud2.cpp)
                      extra=('x' 'y' 'z' 'intensity' 't' 'time' 'time_stamp' 'timestamp' 'ring'
                             'channel' 'lidar') ;;

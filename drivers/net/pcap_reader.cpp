@@ -2,6 +2,7 @@
 
 #include <pcap/pcap.h>
 
+#include <cstdio>
 #include <span>
 #include <string>
 
@@ -44,10 +45,16 @@ bool PcapReader::Next(UdpDatagram& out) {
     if (rc == PCAP_ERROR_BREAK) return false;
     if (rc != 1) {
       // A record cut short by the end of the file is the usual cause.
-      diag_.Count("read_errors", std::string("pcap read stopped: ") + pcap_geterr(handle_->pcap));
+      diag_.Count("read_errors", "pcap read stopped after record " + std::to_string(diag_.Get("records")) +
+                                     " (which ends at byte " + std::to_string(record_end_) +
+                                     "): " + pcap_geterr(handle_->pcap));
       return false;
     }
     diag_.Count("records");
+    if (FILE* f = pcap_file(handle_->pcap); f != nullptr) {
+      const long at = std::ftell(f);
+      if (at >= 0) record_end_ = static_cast<std::uint64_t>(at);
+    }
     if (header->caplen < header->len) {
       diag_.Count("truncated_records", "capture record shorter than the packet on the wire");
       continue;

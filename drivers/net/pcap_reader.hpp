@@ -27,6 +27,8 @@ class PcapReader {
   // Fills `out` with the next matching datagram; false at the end of the file.
   bool Next(UdpDatagram& out);
 
+  // A read error (e.g. a record cut short by the end of the file) is counted as "read_errors"
+  // with a message naming the last good record and the byte where it ends.
   const Diagnostics& diagnostics() const { return diag_; }
 
  private:
@@ -36,6 +38,7 @@ class PcapReader {
   PcapFilter filter_;
   Ipv4Reassembler reassembler_;
   Diagnostics diag_;
+  std::uint64_t record_end_ = 0;  // file offset after the last record read (for error messages)
 };
 
 }  // namespace dammloam::drivers

@@ -1,6 +1,7 @@
 #include "io/bag/bag_reader.hpp"
 
 #include "io/bag/mcap_bag.hpp"
+#include "io/bag/ros1_bag.hpp"
 #include "io/bag/rosbag2_metadata.hpp"
 #include "io/bag/sqlite_bag.hpp"
 #include "io/io_error.hpp"
@@ -9,7 +10,7 @@ namespace dammloam::io {
 
 bool IsBagPath(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path)) return std::filesystem::exists(path / "metadata.yaml");
-  return path.extension() == ".mcap";
+  return path.extension() == ".mcap" || path.extension() == ".bag";
 }
 
 std::unique_ptr<BagReader> OpenBag(const std::filesystem::path& path,
@@ -19,6 +20,7 @@ std::unique_ptr<BagReader> OpenBag(const std::filesystem::path& path,
     if (!std::filesystem::is_regular_file(path)) {
       throw IoError(path.string() + ": no such file");
     }
+    if (path.extension() == ".bag") return std::make_unique<Ros1Bag>(path, options);
     return std::make_unique<McapBag>(std::vector<std::filesystem::path>{path}, mcap_options);
   }
   const Rosbag2Metadata metadata = ReadRosbag2Metadata(path);

@@ -26,8 +26,8 @@ struct BagMessage {
   std::string where;              // "<file>: Message record at byte N" / "<db3>: message id N"
 };
 
-// The recordings users have: a rosbag2 directory (metadata.yaml; storage sqlite3 or mcap) or
-// a single .mcap file. Messages of one topic come in recorded order, streamed.
+// The recordings users have: a rosbag2 directory (metadata.yaml; storage sqlite3 or mcap), a
+// single .mcap file or a ROS 1 .bag (format 2.0). Messages of one topic come in recorded order, streamed.
 class BagReader {
  public:
   virtual ~BagReader() = default;
@@ -41,7 +41,7 @@ struct BagReadOptions {
   std::uint64_t max_record_bytes = 1ull << 30;  // MCAP records and SQLite blobs larger: corrupt
 };
 
-// A rosbag2 directory (holds metadata.yaml) or an .mcap file.
+// A rosbag2 directory (holds metadata.yaml), an .mcap file or a ROS 1 .bag file.
 bool IsBagPath(const std::filesystem::path& path);
 // Throws IoError naming the file when it is neither or cannot be read.
 std::unique_ptr<BagReader> OpenBag(const std::filesystem::path& path,

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "io/bag/pointcloud2_cdr.hpp"
+#include "io/bag/ros1_bag.hpp"
 #include "io/io_error.hpp"
 
 namespace dammloam::io {
@@ -47,9 +48,10 @@ CloudLimits RecordedCloudLimits() {
 BagScans::BagScans(const std::filesystem::path& path, const BagScanOptions& options)
     : path_(path), options_(options), bag_(OpenBag(path)) {
   topic_ = PickTopic(bag_->topics(), options_.topic, path_);
-  if (!topic_.serialization_format.empty() && topic_.serialization_format != "cdr") {
+  ros1_ = topic_.serialization_format == kRos1Serialization;
+  if (!topic_.serialization_format.empty() && topic_.serialization_format != "cdr" && !ros1_) {
     throw IoError(path_.string() + ": topic " + topic_.name + " is serialised as '" +
-                  topic_.serialization_format + "', only cdr is read");
+                  topic_.serialization_format + "', only cdr (and ROS 1 bags) are read");
   }
   bag_->Select(topic_.name);
 }
@@ -57,7 +59,8 @@ BagScans::BagScans(const std::filesystem::path& path, const BagScanOptions& opti
 std::optional<Scan> BagScans::Next() {
   while (bag_->Next(message_)) {
     const DecodedCloud decoded =
-        DecodePointCloud2(message_.data, message_.size, message_.data_offset, message_.where);
+        ros1_ ? DecodePointCloud2Ros1(message_.data, message_.size, message_.data_offset, message_.where)
+              : DecodePointCloud2(message_.data, message_.size, message_.data_offset, message_.where);
     const CloudInput cloud = decoded.View();
     last_cloud_points_ = std::uint64_t{cloud.height} * cloud.width;
     last_cloud_height_ = cloud.height;

@@ -45,6 +45,7 @@ class BagScans {
   std::unique_ptr<BagReader> bag_;
   BagTopic topic_;
   BagMessage message_;
+  bool ros1_ = false;  // a ROS 1 bag: the ROS 1 serialisation, not CDR
   std::size_t skipped_ = 0;
   std::uint64_t last_cloud_points_ = 0;
   std::uint32_t last_cloud_height_ = 0;

@@ -1,5 +1,6 @@
 #include "io/bag/decompress.hpp"
 
+#include <bzlib.h>
 #include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -89,6 +90,31 @@ void DecompressZstdFrame(const std::uint8_t* data, std::size_t size, std::uint64
   }
   out.resize(static_cast<std::size_t>(n));
   Zstd(data, size, out, where);
+}
+
+void DecompressBz2(const std::uint8_t* data, std::size_t size, std::uint64_t uncompressed_size,
+                   std::vector<std::uint8_t>& out, const std::string& where) {
+  if (uncompressed_size > std::numeric_limits<unsigned int>::max() ||
+      size > std::numeric_limits<unsigned int>::max()) {
+    throw IoError(where + ": bz2 data of " + std::to_string(size) + " -> " +
+                  std::to_string(uncompressed_size) + " bytes is too large");
+  }
+  // One spare byte: output that does not fit in the stated size is reported, not truncated.
+  out.resize(static_cast<std::size_t>(uncompressed_size) + 1);
+  unsigned int n = static_cast<unsigned int>(out.size());
+  const int rc = BZ2_bzBuffToBuffDecompress(
+      reinterpret_cast<char*>(out.data()), &n,
+      const_cast<char*>(reinterpret_cast<const char*>(data)), static_cast<unsigned int>(size), 0, 0);
+  if (rc == BZ_OUTBUFF_FULL) {
+    throw IoError(where + ": bz2 output larger than the record's uncompressed size " +
+                  std::to_string(uncompressed_size));
+  }
+  if (rc != BZ_OK) throw IoError(where + ": bz2: corrupt data (error " + std::to_string(rc) + ")");
+  if (n != uncompressed_size) {
+    throw IoError(where + ": bz2 gave " + std::to_string(n) + " bytes, the record says " +
+                  std::to_string(uncompressed_size));
+  }
+  out.resize(n);
 }
 
 std::vector<std::uint8_t> CompressZstd(const std::uint8_t* data, std::size_t size, int level) {

@@ -20,6 +20,11 @@ void Decompress(std::string_view compression, const std::uint8_t* data, std::siz
 void DecompressZstdFrame(const std::uint8_t* data, std::size_t size, std::uint64_t max_bytes,
                          std::vector<std::uint8_t>& out, const std::string& where);
 
+// A bzip2 stream (ROS 1 bag chunks) of exactly `uncompressed_size` bytes. Throws IoError
+// "<where>: ..." for corrupt data or another size.
+void DecompressBz2(const std::uint8_t* data, std::size_t size, std::uint64_t uncompressed_size,
+                   std::vector<std::uint8_t>& out, const std::string& where);
+
 // zstd frame compression (MCAP out).
 std::vector<std::uint8_t> CompressZstd(const std::uint8_t* data, std::size_t size, int level);
 

@@ -27,4 +27,9 @@ struct DecodedCloud {
 DecodedCloud DecodePointCloud2(const std::uint8_t* data, std::size_t size,
                                std::uint64_t message_offset, const std::string& where);
 
+// The same from the ROS 1 serialisation (sensor_msgs/PointCloud2 in a ROS 1 bag: little-endian,
+// no alignment, std_msgs/Header with seq, time as uint32 sec + nsec). Same errors.
+DecodedCloud DecodePointCloud2Ros1(const std::uint8_t* data, std::size_t size,
+                                   std::uint64_t message_offset, const std::string& where);
+
 }  // namespace dammloam::io

@@ -8,6 +8,7 @@
 
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/bag_scans.hpp"
+#include "io/bag/cloud_folder.hpp"
 #include "io/sequence_io.hpp"
 
 namespace dammloam::io {
@@ -38,7 +39,9 @@ class SequenceSource : public ScanSource {
 class BagSource : public ScanSource {
  public:
   BagSource(const std::filesystem::path& path, const ScanSourceOptions& options)
-      : kind_(std::filesystem::is_directory(path) ? "rosbag2" : "mcap"),
+      : kind_(std::filesystem::is_directory(path)  ? "rosbag2"
+              : path.extension() == ".bag"         ? "ros1 bag"
+                                                   : "mcap"),
         scans_(path, BagScanOptions{options.topic, RecordedCloudLimits()}) {
     // Two scans ahead, so the model can be guessed from them; they are handed out first.
     for (int i = 0; i < 2; ++i) {
@@ -133,6 +136,7 @@ SensorModel GuessSensorModel(const Scan& first, std::uint64_t cloud_points,
 std::unique_ptr<ScanSource> OpenScanSource(const std::filesystem::path& path,
                                            const ScanSourceOptions& options) {
   if (IsBagPath(path)) return std::make_unique<BagSource>(path, options);
+  if (IsCloudFolder(path)) return OpenCloudFolder(path, options);
   return std::make_unique<SequenceSource>(path);
 }
 

@@ -13,17 +13,22 @@ namespace dammloam::io {
 
 struct ScanSourceOptions {
   std::string topic;                  // bags: the PointCloud2 topic (empty: the only one)
-  std::filesystem::path sensor_meta;  // bags: a meta.json giving the sensor model
+  std::filesystem::path sensor_meta;  // bags, cloud folders: a meta.json giving the sensor model
+  double scan_period = 0.0;           // cloud folders: stamps = index x period (0: from names)
 };
 
 // Scans from whatever the user recorded, in order. The kind is told by the path: a directory
-// with metadata.yaml is a rosbag2, a *.mcap file an MCAP, anything else a sequence directory
-// or KITTI folder (io::SequenceReader).
+// with metadata.yaml is a rosbag2, a *.mcap file an MCAP, a *.bag file a ROS 1 bag, a directory
+// of .pcd / .ply files (io/bag/cloud_folder.hpp) a cloud folder, anything else a sequence
+// directory or KITTI folder (io::SequenceReader). Packet captures (.pcap) need drivers/ and are
+// opened in tools/ (tools/odometry/pcap_source.hpp).
 class ScanSource {
  public:
   virtual ~ScanSource() = default;
-  // "sequence", "rosbag2" or "mcap".
+  // "sequence", "rosbag2", "mcap", "ros1 bag", "cloud folder", "ouster pcap", ...
   virtual std::string kind() const = 0;
+  // One line for the log on where the stamps (and the model) came from; empty: nothing to say.
+  virtual std::string Describe() const { return {}; }
   virtual const SensorModel& model() const = 0;
   // Number of scans when known up front (a bag's message count, which may include clouds that
   // turn out empty and are skipped).

@@ -1,6 +1,8 @@
 // dammloam-odometry INPUT --out poses.tum [--config cfg.yaml] [--topic /points]
 //     [--sensor-meta meta.json] [--mcap out.mcap]
-// INPUT: sequence directory, KITTI folder, rosbag2 directory or .mcap file.
+// INPUT: sequence directory, KITTI folder, rosbag2 directory, .mcap file, ROS 1 .bag, folder of
+//     .pcd/.ply files [--scan-period S], Ouster .pcap [--ouster-metadata M.json] or Velodyne
+//     .pcap --velodyne-model M --velodyne-calibration C.yaml.
 //     [--backend-config backend.yaml] [--map map.pcd]
 //     [--stats stats.csv] [--max-scans N] [--quiet]
 //     [--no-loop-closure] [--odometry-out raw.tum] [--events loops.jsonl] [--save-map DIR]
@@ -18,12 +20,14 @@ int main(int argc, char** argv) {
   bool no_loop_closure = false;
   app.add_option("sequence", o.sequence,
                  "sequence directory, KITTI-layout folder, rosbag2 directory (metadata.yaml; "
-                 "sqlite3 or mcap storage) or .mcap file")
+                 "sqlite3 or mcap storage), .mcap file, ROS 1 .bag file, folder of .pcd/.ply files, "
+                 "or an Ouster or Velodyne .pcap capture")
       ->required();
   app.add_option("--topic", o.topic,
                  "bags: the sensor_msgs/msg/PointCloud2 topic (default: the only one)");
   app.add_option("--sensor-meta", o.sensor_meta,
-                 "bags: meta.json with the sensor model (default: guessed from the clouds)")
+                 "bags and cloud folders: meta.json with the sensor model (default: guessed from "
+                 "the clouds)")
       ->check(CLI::ExistingFile);
   app.add_option("--out", o.out,
                  "output trajectory (TUM): corrected with loop closure, else odometry; "
@@ -47,8 +51,16 @@ int main(int argc, char** argv) {
   auto* save = app.add_option("--save-map", o.save_map,
                               "save keyframes, descriptors and the global map to this directory");
   app.add_option("--velodyne-model", o.velodyne_model,
-                 "bags of raw packets (velodyne_msgs/msg/VelodyneScan): vlp16, vlp32c, hdl32e, "
-                 "vls128; needs --velodyne-calibration");
+                 "Velodyne .pcap or bags of raw packets (velodyne_msgs/msg/VelodyneScan): vlp16, "
+                 "vlp32c, hdl32e, vls128; needs --velodyne-calibration");
+  app.add_option("--ouster-metadata", o.ouster_metadata,
+                 "Ouster .pcap: the sensor's metadata JSON (default: the .json beside the capture "
+                 "with the same name or the longest name prefix)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--scan-period", o.scan_period,
+                 "folders of .pcd/.ply: stamps = file index x this period in seconds (default: "
+                 "from numeric file names, else 0.1)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--velodyne-calibration", o.velodyne_calibration,
                  "the sensor's calibration YAML (drivers/calibration, nebula's format)")
       ->check(CLI::ExistingFile);

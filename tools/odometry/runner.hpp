@@ -24,6 +24,8 @@ struct RunnerOptions {
   std::string mcap_compression = "zstd";  // its chunks: zstd or "" (none)
   std::string velodyne_model;                 // bags of raw Velodyne packets: vlp16, ...
   std::filesystem::path velodyne_calibration;  // and the sensor's calibration YAML
+  std::filesystem::path ouster_metadata;       // Ouster .pcap: the sensor's metadata JSON
+  double scan_period = 0.0;                    // cloud folders: stamps = index x period
   std::size_t max_scans = 0;
   bool loop_closure = true;
   bool localize = false;
@@ -46,7 +48,8 @@ std::optional<double> LogMetrics(const std::string& label, const std::vector<io:
 
 double Median(std::vector<double> values);
 
-// The scans of options.sequence: a sequence directory, KITTI folder, rosbag2 or .mcap.
+// The scans of options.sequence: a sequence directory, KITTI folder, rosbag2, .mcap, ROS 1 .bag,
+// folder of .pcd / .ply files, or an Ouster or Velodyne .pcap.
 std::unique_ptr<io::ScanSource> OpenSource(const RunnerOptions& options);
 // How many scans the run will see, for progress; 0 when the source cannot tell.
 std::size_t ScansToRun(const io::ScanSource& source, std::size_t max_scans);

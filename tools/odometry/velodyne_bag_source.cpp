@@ -7,6 +7,7 @@
 #include "drivers/velodyne/decoder.hpp"
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/cdr_reader.hpp"
+#include "io/bag/ros1_bag.hpp"
 
 namespace dammloam::tools {
 namespace {
@@ -47,7 +48,14 @@ class VelodyneBagSource : public io::ScanSource {
       : bag_(io::OpenBag(path)),
         decoder_(Config(model), velodyne::LoadCalibration(calibration)),
         model_(decoder_.sensor_model()) {
-    bag_->Select(PickTopic(*bag_, topic, path));
+    const std::string name = PickTopic(*bag_, topic, path);
+    for (const io::BagTopic& t : bag_->topics()) {
+      if (t.name == name && t.serialization_format == io::kRos1Serialization) {
+        throw io::IoError(path.string() + ": VelodyneScan packets of a ROS 1 bag are not read " +
+                          "(rosbag2 or MCAP only); topic " + name);
+      }
+    }
+    bag_->Select(name);
   }
   std::string kind() const override { return "velodyne packets"; }
   const SensorModel& model() const override { return model_; }
