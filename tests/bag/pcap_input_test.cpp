@@ -11,7 +11,7 @@
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/tools/test_support.hpp"
-#include "tools/odometry/pcap_source.hpp"
+#include "tools/inputs/pcap_source.hpp"
 
 namespace dammloam {
 namespace {

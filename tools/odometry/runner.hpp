@@ -8,6 +8,7 @@
 
 #include "io/bag/scan_source.hpp"
 #include "io/tum.hpp"
+#include "tools/inputs/scan_input.hpp"
 
 // The two modes of dammloam-odometry. main.cpp only parses the command line.
 namespace dammloam::tools {
@@ -49,9 +50,7 @@ std::optional<double> LogMetrics(const std::string& label, const std::vector<io:
 double Median(std::vector<double> values);
 
 // The scans of options.sequence: a sequence directory, KITTI folder, rosbag2, .mcap, ROS 1 .bag,
-// folder of .pcd / .ply files, or an Ouster or Velodyne .pcap.
+// folder of .pcd / .ply files, or an Ouster or Velodyne .pcap (tools/inputs/scan_input.hpp).
 std::unique_ptr<io::ScanSource> OpenSource(const RunnerOptions& options);
-// How many scans the run will see, for progress; 0 when the source cannot tell.
-std::size_t ScansToRun(const io::ScanSource& source, std::size_t max_scans);
 
 }  // namespace dammloam::tools

@@ -1,6 +1,7 @@
-// dammloam-replay: publishes a sequence directory (or KITTI folder) as PointCloud samples at the
-// recorded rate, at X times speed, or in lock-step with dammloamd's Odometry; the sequence's
-// imu.csv and wheel.csv, when present, as Imu and WheelOdometry samples.
+// dammloam-replay: publishes a recording as PointCloud samples at the recorded rate, at X times
+// speed, or in lock-step with dammloamd's Odometry. A sequence directory (or KITTI folder) with
+// its imu.csv and wheel.csv, when present, as Imu and WheelOdometry samples; any other input
+// dammloam-odometry reads (bags, MCAP, captures, cloud folders: tools/inputs) its scans only.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -13,6 +14,8 @@
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
 #include "io/sequence_io.hpp"
+#include "io/sequence_meta.hpp"
+#include "tools/inputs/scan_input.hpp"
 
 namespace {
 
@@ -37,6 +40,9 @@ struct Options {
   std::string imu_topic = dds::TopicNames{}.imu;
   std::string wheel_topic = dds::TopicNames{}.wheel_odometry;
   std::string imu_frame_id = "imu", base_frame_id = "base";
+  // Recordings other than sequence directories (tools/inputs/scan_input.hpp).
+  tools::ScanInputOptions input;
+  std::string write_sensor_meta;  // the model the scans were read with, for dammloamd --sensor-meta
 };
 
 // The sequence's IMU and wheel samples, on the LiDAR clock, and where publishing has got to.
@@ -130,7 +136,85 @@ bool WaitForPose(const dds::Reader<dammloam_msg_Odometry>& reader, const dds::Wa
   return found;
 }
 
-int Run(const Options& o) {
+// The DDS side of a replay: the cloud writer, and the Odometry reader lock-step waits on.
+class CloudPublisher {
+ public:
+  CloudPublisher(dds::Participant& participant, const Options& o)
+      : o_(o),
+        points_topic_(participant, dammloam_msg_PointCloud_desc, o.topic, dds::PointsQos()),
+        writer_(participant, points_topic_, dds::PointsQos()),
+        odometry_topic_(participant, dammloam_msg_Odometry_desc, o.odometry_topic, dds::OdometryQos()),
+        odometry_reader_(participant, odometry_topic_, dds::OdometryQos()),
+        waitset_(participant) {
+    waitset_.Attach(odometry_reader_);
+  }
+
+  // False (after an error) when dammloamd did not subscribe in time.
+  bool WaitForDaemon() {
+    const auto wait_ms = std::chrono::milliseconds(static_cast<int>(o_.wait_subscriber * 1000));
+    if (!writer_.WaitForReaders(1, wait_ms)) {
+      spdlog::error("no subscriber on topic '{}' (domain {}) after {} s: is dammloamd running with "
+                    "the same CYCLONEDDS_URI and domain?", o_.topic, o_.domain, o_.wait_subscriber);
+      return false;
+    }
+    if (o_.lockstep && odometry_reader_.MatchedWriters() == 0) {
+      // The daemon's Odometry writer appears together with its PointCloud reader; give discovery
+      // the same time budget.
+      const auto deadline = Clock::now() + wait_ms;
+      while (odometry_reader_.MatchedWriters() == 0 && Clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    }
+    return true;
+  }
+
+  void Start(double first_time) {
+    t0_ = Clock::now();
+    first_time_ = first_time;
+  }
+  // At the scan's recorded instant (or after the last pose, lock-step): false after an error.
+  // `before_write` runs just before the cloud goes out (the IMU samples that cover it).
+  template <typename BeforeWrite>
+  bool Publish(const Scan& scan, std::size_t index, BeforeWrite&& before_write) {
+    const dds::CloudMessage cloud = dds::ScanToCloud(scan, o_.frame_id, index);
+    if (!o_.lockstep) {
+      const auto due = t0_ + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>((scan.t_start - first_time_) / o_.rate));
+      std::this_thread::sleep_until(due);
+    }
+    before_write();
+    writer_.Write(dds::CloudView(cloud).get());
+    if (o_.lockstep && !WaitForPose(odometry_reader_, waitset_, cloud.stamp,
+                                    std::chrono::duration<double>(o_.lockstep_timeout))) {
+      spdlog::error("lock-step: no Odometry for scan {} (stamp {}.{:09d}) on '{}' within {} s; "
+                    "did dammloamd reject it (see its Status) or stop?", index, cloud.stamp.sec,
+                    cloud.stamp.nanosec, o_.odometry_topic, o_.lockstep_timeout);
+      return false;
+    }
+    return true;
+  }
+  // Makes sure the last samples reached the subscribers before the participant goes away.
+  void Finish(std::size_t published) const {
+    dds_wait_for_acks(writer_.handle(), DDS_SECS(5));
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0_).count();
+    spdlog::info("published {} scans in {:.2f} s", published, seconds);
+  }
+  std::string Pace() const {
+    return o_.lockstep ? std::string("in lock-step") : fmt::format("at {}x", o_.rate);
+  }
+
+ private:
+  const Options& o_;
+  dds::Topic points_topic_;
+  dds::Writer<dammloam_msg_PointCloud> writer_;
+  dds::Topic odometry_topic_;
+  dds::Reader<dammloam_msg_Odometry> odometry_reader_;
+  dds::WaitSet waitset_;
+  Clock::time_point t0_ = Clock::now();
+  double first_time_ = 0.0;
+};
+
+int RunSequence(const Options& o) {
   io::ReadOptions read_options;
   if (o.kitti) read_options.layout = io::PointLayout::kXYZI;
   const io::SequenceReader sequence = io::SequenceReader::Open(o.sequence, read_options);
@@ -141,75 +225,84 @@ int Run(const Options& o) {
   }
   const std::size_t end =
       o.count == 0 ? sequence.size() : std::min(sequence.size(), o.start_index + o.count);
+  if (!o.write_sensor_meta.empty()) io::WriteMeta(o.write_sensor_meta, sequence.meta());
 
   dds::Participant participant(static_cast<dds_domainid_t>(o.domain));
-  dds::Topic points_topic(participant, dammloam_msg_PointCloud_desc, o.topic, dds::PointsQos());
-  dds::Writer<dammloam_msg_PointCloud> writer(participant, points_topic, dds::PointsQos());
-  dds::Topic odometry_topic(participant, dammloam_msg_Odometry_desc, o.odometry_topic,
-                            dds::OdometryQos());
-  dds::Reader<dammloam_msg_Odometry> odometry_reader(participant, odometry_topic,
-                                                     dds::OdometryQos());
-  dds::WaitSet waitset(participant);
-  waitset.Attach(odometry_reader);
+  CloudPublisher publisher(participant, o);
   InertialPublisher inertial(participant, sequence, o);
   const double period = sequence.meta().model.scan_period;
   inertial.SkipBefore(sequence.times()[o.start_index] - period);
-
-  const auto wait_ms = std::chrono::milliseconds(static_cast<int>(o.wait_subscriber * 1000));
-  if (!writer.WaitForReaders(1, wait_ms)) {
-    spdlog::error("no subscriber on topic '{}' (domain {}) after {} s: is dammloamd running with "
-                  "the same CYCLONEDDS_URI and domain?", o.topic, o.domain, o.wait_subscriber);
-    return 3;
-  }
+  if (!publisher.WaitForDaemon()) return 3;
   inertial.WaitForReaders(std::chrono::milliseconds(1000));
-  if (o.lockstep && odometry_reader.MatchedWriters() == 0) {
-    // The daemon's Odometry writer appears together with its PointCloud reader; give discovery
-    // the same time budget.
-    const auto deadline = Clock::now() + wait_ms;
-    while (odometry_reader.MatchedWriters() == 0 && Clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-  }
 
   spdlog::info("replaying {} scans {}..{} of {} on '{}' (domain {}) {}", end - o.start_index,
-               o.start_index, end - 1, o.sequence, o.topic, o.domain,
-               o.lockstep ? std::string("in lock-step") : fmt::format("at {}x", o.rate));
-  const auto t0 = Clock::now();
-  const double first_time = sequence.times()[o.start_index];
+               o.start_index, end - 1, o.sequence, o.topic, o.domain, publisher.Pace());
+  publisher.Start(sequence.times()[o.start_index]);
   for (std::size_t k = o.start_index; k < end; ++k) {
     const Scan scan = sequence.ReadScan(k);
-    const dds::CloudMessage cloud = dds::ScanToCloud(scan, o.frame_id, k);
-    if (!o.lockstep) {
-      const auto due = t0 + std::chrono::duration_cast<Clock::duration>(
-                                std::chrono::duration<double>((scan.t_start - first_time) / o.rate));
-      std::this_thread::sleep_until(due);
-    }
-    inertial.PublishUntil(scan.t_start + period);
-    writer.Write(dds::CloudView(cloud).get());
-    if (o.lockstep &&
-        !WaitForPose(odometry_reader, waitset, cloud.stamp,
-                     std::chrono::duration<double>(o.lockstep_timeout))) {
-      spdlog::error("lock-step: no Odometry for scan {} (stamp {}.{:09d}) on '{}' within {} s; "
-                    "did dammloamd reject it (see its Status) or stop?", k, cloud.stamp.sec,
-                    cloud.stamp.nanosec, o.odometry_topic, o.lockstep_timeout);
-      return 4;
+    if (!publisher.Publish(scan, k, [&] { inertial.PublishUntil(scan.t_start + period); })) return 4;
+  }
+  inertial.WaitForAcks();
+  publisher.Finish(end - o.start_index);
+  return 0;
+}
+
+// Any other recording: its scans, read as they are published (a bag larger than memory streams).
+int RunRecording(const Options& o, io::ScanSource& source) {
+  const SensorModel& model = source.model();
+  spdlog::info("{} ({}): {} rings, {} columns, {:.3f} s per scan; start dammloamd with a sensor "
+               "of this model{}", o.sequence, source.kind(), model.rings, model.columns,
+               model.scan_period,
+               o.write_sensor_meta.empty() ? " (--write-sensor-meta FILE writes it as meta.json)"
+                                           : ": --sensor-meta " + o.write_sensor_meta);
+  if (!o.write_sensor_meta.empty()) {
+    io::SequenceMeta meta;
+    meta.sensor = source.kind();
+    meta.model = model;
+    io::WriteMeta(o.write_sensor_meta, meta);
+  }
+  for (std::size_t k = 0; k < o.start_index; ++k) {
+    if (!source.Next()) {
+      spdlog::error("--start-index {} is beyond the recording's {} scans", o.start_index, k);
+      return 2;
     }
   }
-  // Make sure the last samples reached the subscribers before the participant goes away.
-  dds_wait_for_acks(writer.handle(), DDS_SECS(5));
-  inertial.WaitForAcks();
-  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  spdlog::info("published {} scans in {:.2f} s", end - o.start_index, seconds);
+  dds::Participant participant(static_cast<dds_domainid_t>(o.domain));
+  CloudPublisher publisher(participant, o);
+  if (!publisher.WaitForDaemon()) return 3;
+  spdlog::info("replaying {} from scan {} on '{}' (domain {}) {}", o.sequence, o.start_index,
+               o.topic, o.domain, publisher.Pace());
+  std::size_t published = 0;
+  for (std::size_t k = o.start_index; o.count == 0 || published < o.count; ++k) {
+    std::optional<Scan> scan = source.Next();
+    if (!scan) break;
+    if (published == 0) publisher.Start(scan->t_start);
+    if (!publisher.Publish(*scan, k, [] {})) return 4;
+    ++published;
+  }
+  publisher.Finish(published);
   return 0;
+}
+
+int Run(Options o) {
+  o.input.path = o.sequence;
+  const bool sequence_directory = o.kitti || (std::filesystem::is_directory(o.sequence) &&
+                                              std::filesystem::exists(std::filesystem::path(o.sequence) / "meta.json"));
+  if (sequence_directory) return RunSequence(o);
+  const std::unique_ptr<io::ScanSource> source = tools::OpenScanInput(o.input);
+  if (source->kind() == "sequence") return RunSequence(o);
+  return RunRecording(o, *source);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"dammloam-replay: publish a sequence directory as dammloam PointCloud samples"};
-  app.add_option("SEQUENCE_DIR", o.sequence, "sequence directory or KITTI folder")
-      ->required()->check(CLI::ExistingDirectory);
+  CLI::App app{"dammloam-replay: publish a recording as dammloam PointCloud samples"};
+  app.add_option("INPUT", o.sequence,
+                 "sequence directory, KITTI folder, rosbag2 directory, .mcap, ROS 1 .bag, Ouster or "
+                 "Velodyne .pcap, or a folder of .pcd/.ply files")
+      ->required()->check(CLI::ExistingPath);
   app.add_option("--domain", o.domain, "DDS domain id");
   auto* rate = app.add_option("--rate", o.rate, "speed factor over the recorded rate")
                    ->check(CLI::PositiveNumber);
@@ -229,6 +322,14 @@ int main(int argc, char** argv) {
   app.add_flag("--no-wheel", o.no_wheel, "do not publish the sequence's wheel.csv");
   app.add_option("--imu-topic", o.imu_topic, "Imu topic");
   app.add_option("--wheel-topic", o.wheel_topic, "WheelOdometry topic");
+  app.add_option("--bag-topic", o.input.topic, "bags: the PointCloud2 (or packet) topic to read");
+  app.add_option("--sensor-meta", o.input.sensor_meta, "bags, cloud folders: meta.json with the sensor model");
+  app.add_option("--velodyne-model", o.input.velodyne_model, "raw Velodyne packets: vlp16, vlp32c, hdl32e, vls128");
+  app.add_option("--velodyne-calibration", o.input.velodyne_calibration, "raw Velodyne packets: calibration YAML");
+  app.add_option("--ouster-metadata", o.input.ouster_metadata, "Ouster .pcap: the sensor's metadata JSON");
+  app.add_option("--scan-period", o.input.scan_period, "cloud folders: seconds between scans (default: from the names)");
+  app.add_option("--write-sensor-meta", o.write_sensor_meta,
+                 "write the sensor model the scans were read with as meta.json (dammloamd --sensor-meta)");
   app.add_flag("--allow-default-network", o.allow_default_network,
                "run without CYCLONEDDS_URI (uses the default network interface)");
   CLI11_PARSE(app, argc, argv);

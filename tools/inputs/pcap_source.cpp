@@ -1,4 +1,4 @@
-#include "tools/odometry/pcap_source.hpp"
+#include "tools/inputs/pcap_source.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "tools/odometry/velodyne_bag_source.hpp"
+#include "tools/inputs/velodyne_bag_source.hpp"
 
 #include <algorithm>
 #include <deque>
