@@ -341,6 +341,11 @@ std::optional<Eigen::Isometry3d> LoopClosingBackend::CorrectedPoseOf(
   return Normalized(corrections_[k] * T_world_sensor_odom);
 }
 
+Eigen::Isometry3d LoopClosingBackend::MapFromOdom() const {
+  std::lock_guard lock(shared_mutex_);
+  return corrections_.empty() ? Eigen::Isometry3d::Identity() : corrections_.back();
+}
+
 std::size_t LoopClosingBackend::NumKeyframes() const {
   std::lock_guard lock(process_mutex_);
   return keyframes_.size();

@@ -86,6 +86,11 @@ class LoopClosingBackend {
   std::optional<Eigen::Isometry3d> CorrectedPoseOf(
       std::uint64_t scan_index, const Eigen::Isometry3d& T_world_sensor_odom) const;
 
+  // map -> odom for the newest scans: the correction of the newest keyframe the last
+  // optimisation placed (identity before any), T_map_sensor = MapFromOdom() * T_odom_sensor. What
+  // REP 105's map -> odom transform carries when loops correct the map.
+  Eigen::Isometry3d MapFromOdom() const;
+
   std::size_t NumKeyframes() const;
   // Keyframes that still hold a cloud (the others were revisits, see revisit_drop_distance).
   std::size_t NumStoredKeyframes() const;

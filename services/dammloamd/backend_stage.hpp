@@ -37,6 +37,8 @@ class LoopClosureStage {
   // Joins the thread; save requests already queued are carried out first.
   void Stop();
   void AddScan(const OdometryResult& result);
+  // map -> odom as the latest pose-graph solve left it (identity before any).
+  Eigen::Isometry3d MapFromOdom() const { return backend_.MapFromOdom(); }
 
   // Queues a save for the back-end thread, which first integrates every queued keyframe.
   std::future<CommandOutcome> RequestSave(const std::filesystem::path& dir);

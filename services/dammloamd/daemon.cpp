@@ -374,9 +374,11 @@ void Daemon::Publish(const RegisteredScan& item) {
   stats_.Processed(odom.latency_ms, Name(r.tracking), Name(r.point_times));
 
   if (ros2_) {
-    // REP 105: the odometry stays continuous in odom; what localization adds is map -> odom.
+    // REP 105: the odometry stays continuous in odom; what localization or loop closure adds is
+    // map -> odom.
     PublishRos2(item, located ? located->T_map_sensor * r.T_world_sensor.inverse()
-                              : Eigen::Isometry3d::Identity());
+                      : loop_closure_ && config_.loop_closure ? loop_closure_->MapFromOdom()
+                                                              : Eigen::Isometry3d::Identity());
   }
 
   const int every = config_.labelled_cloud_every;

@@ -273,6 +273,14 @@ TEST(LoopClosure, CorridorReturnHalvesApeAndAcceptsOnlyTrueLoops) {
   // Loops facing back along the corridor, and the end walls, fix the axis as well.
   EXPECT_GE(full, 5u);
   EXPECT_LT(after * 2.0, before);
+  // map -> odom for the newest scan (what /tf carries): its corrected pose over its odometry,
+  // and far from identity after this much drift was removed.
+  const OdometryResult& last = run.odometry.back();
+  const Eigen::Isometry3d T_map_odom = backend.MapFromOdom();
+  const Eigen::Isometry3d expected = outcome.corrected.back() * last.T_world_sensor.inverse();
+  EXPECT_LT((T_map_odom.translation() - expected.translation()).norm(), 1e-9);
+  EXPECT_LT(Eigen::AngleAxisd(T_map_odom.rotation().transpose() * expected.rotation()).angle(), 1e-9);
+  EXPECT_GT((outcome.corrected.back().translation() - last.T_world_sensor.translation()).norm(), 0.05);
 }
 
 // The same walk with odometry that does not drift: loops that agree with the map within their

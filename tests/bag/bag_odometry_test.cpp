@@ -102,7 +102,7 @@ TEST_F(BagOdometry, PosesFromMcapAndRosbag2EqualPosesFromTheSequenceBitForBit) {
   const auto& tf = mcap["topics"]["/tf"];
   const auto& clouds = mcap["topics"]["/dammloam/labelled_cloud"];
   ASSERT_EQ(odometry.size(), raw.size());
-  ASSERT_EQ(tf.size(), raw.size());
+  ASSERT_EQ(tf.size(), 2 * raw.size());  // odom -> lidar and map -> odom per scan
   EXPECT_EQ(clouds.size(), raw.size());
   std::size_t messages = odometry.size() + tf.size() + clouds.size();
   if (mcap["topics"].contains("/dammloam/loop_closures")) messages += mcap["topics"]["/dammloam/loop_closures"].size();
@@ -123,9 +123,16 @@ TEST_F(BagOdometry, PosesFromMcapAndRosbag2EqualPosesFromTheSequenceBitForBit) {
     const auto& covariance = o["pose"]["covariance"];
     ASSERT_EQ(covariance.size(), 36u);
     for (int d = 0; d < 6; ++d) EXPECT_GT(covariance[7 * d].get<double>(), 0.0);
-    const auto& transform = tf[i]["value"]["transforms"][0];
+    const auto& transform = tf[2 * i]["value"]["transforms"][0];
+    EXPECT_EQ(transform["header"]["frame_id"], "odom");
     EXPECT_EQ(transform["child_frame_id"], "lidar");
     EXPECT_EQ(transform["transform"]["translation"]["x"], p["x"]);
+    // Too short a run for a loop: the map frame is the odometry's.
+    const auto& map_odom = tf[2 * i + 1]["value"]["transforms"][0];
+    EXPECT_EQ(map_odom["header"]["frame_id"], "map");
+    EXPECT_EQ(map_odom["child_frame_id"], "odom");
+    EXPECT_NEAR(map_odom["transform"]["translation"]["x"].get<double>(), 0.0, 1e-9);
+    EXPECT_NEAR(map_odom["transform"]["rotation"]["w"].get<double>(), 1.0, 1e-9);
     const auto& cloud = clouds[i];
     EXPECT_EQ(cloud["value"]["fields"].size(), 7u);
     EXPECT_GT(cloud["value"]["width"].get<int>(), 1000);

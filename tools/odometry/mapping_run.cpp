@@ -134,8 +134,11 @@ int RunMapping(const RunnerOptions& o) {
     } else if (backend) {
       backend->AddScan(result);
     }
-    if (mcap) mcap->AddScan(result);
     if (backend && Registered(result.status)) handle_loops(backend->Process());
+    if (mcap) {
+      mcap->AddScan(result, backend && o.loop_closure ? backend->MapFromOdom()
+                                                      : Eigen::Isometry3d::Identity());
+    }
     if (stats) stats->Write(result);
     if (progress) {
       // n is 0 when the source cannot tell its length (raw packet bags).

@@ -31,7 +31,7 @@ McapOutput::McapOutput(const std::filesystem::path& file, double scan_period,
                    "/dammloam/loop_closures");
 }
 
-void McapOutput::AddScan(const OdometryResult& r) {
+void McapOutput::AddScan(const OdometryResult& r, const Eigen::Isometry3d& T_map_odom) {
   const CloudStamp stamp = SecondsToStamp(r.stamp);
   const std::uint64_t t = Nanoseconds(stamp);
   const Eigen::Isometry3d& T = r.T_world_sensor;
@@ -40,6 +40,7 @@ void McapOutput::AddScan(const OdometryResult& r) {
                                 PoseCovarianceToRos(r.pose_covariance, T), r.velocity,
                                 TwistCovarianceToRos(r.covariance, T, scan_period_)));
   writer_.Write(tf_, t, t, io::TfCdr(stamp, kOdomFrame, kSensorFrame, T));
+  writer_.Write(tf_, t, t, io::TfCdr(stamp, kMapFrame, kOdomFrame, T_map_odom));
   if (!r.deskewed_points.empty() && r.labels.size() == r.deskewed_points.size()) {
     Cloud2 cloud = LabelledRos2Cloud(r.deskewed_points, r.normals, r.labels, kSensorFrame);
     cloud.stamp = stamp;
