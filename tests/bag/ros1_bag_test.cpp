@@ -11,6 +11,8 @@
 #include <fstream>
 
 #include "io/bag/bag_scans.hpp"
+#include "io/bag/imu_messages.hpp"
+#include "io/motion_csv.hpp"
 #include "io/bag/ros1_bag.hpp"
 #include "io/bag/scan_source.hpp"
 #include "io/io_error.hpp"
@@ -177,6 +179,60 @@ TEST(Ros1Bag, CorruptCompressedChunksAreErrors) {
     WriteBytes(tmp / "bad.bag", bytes);
     EXPECT_IO_ERROR(ReadAll(tmp / "bad.bag"), (tmp / "bad.bag").string() + ": Chunk record at byte 4117", compression);
   }
+}
+
+// sensor_msgs/Imu beside the clouds (ouster-ros's /ouster/imu) is read along: every sample of
+// the sequence's imu.csv, in order, and the faults a driver emits dropped and counted by reason.
+std::vector<ImuSample> TestImu(double t0, int count) {
+  std::vector<ImuSample> imu;
+  for (int k = 0; k < count; ++k) {
+    ImuSample s;
+    s.t = t0 + 0.01 * k;
+    s.angular_velocity = {0.01 * k, -0.02, 0.3 + 1e-3 * k};
+    s.linear_acceleration = {0.1, 0.2 * std::sin(k), 9.81};
+    imu.push_back(s);
+  }
+  return imu;
+}
+
+TEST(Ros1Bag, ImuMessagesAreReadAlongWithTheClouds) {
+  if (const std::string why = RosbagMissing(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir tmp;
+  const std::vector<Scan> scans = test::TestScans(4, 500);
+  test::WriteSequence(tmp / "seq", scans);
+  const std::vector<ImuSample> imu = TestImu(scans.front().t_start - 0.05, 45);
+  io::WriteImuCsv(tmp / "seq" / "imu.csv", imu);
+  WriteRosbag(tmp / "seq", tmp / "imu.bag", "lz4");
+  const std::optional<io::BagImu> read = io::ReadBagImu(tmp / "imu.bag");
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ(read->topic, "/imu");
+  EXPECT_EQ(read->frame_id, "imu");
+  EXPECT_EQ(read->report.dropped(), 0u);
+  ASSERT_EQ(read->samples.size(), imu.size());
+  for (std::size_t k = 0; k < imu.size(); ++k) {
+    EXPECT_NEAR(read->samples[k].t, imu[k].t, 1e-6) << k;  // through whole nanoseconds
+    EXPECT_EQ(read->samples[k].angular_velocity, imu[k].angular_velocity) << k;
+    EXPECT_EQ(read->samples[k].linear_acceleration, imu[k].linear_acceleration) << k;
+  }
+  // The clouds are unchanged by the IMU messages between them.
+  EXPECT_EQ(ReadAll(tmp / "imu.bag").size(), scans.size());
+
+  const auto r = test::RunCommand("/usr/bin/python3 " + (test::BagTestDir() / "write_ros1_bag.py").string() +
+                                  " " + (tmp / "seq").string() + " " + (tmp / "faults.bag").string() +
+                                  " none imu-faults 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::optional<io::BagImu> faulty = io::ReadBagImu(tmp / "faults.bag", "/imu");
+  ASSERT_TRUE(faulty.has_value());
+  EXPECT_EQ(faulty->samples.size(), imu.size());
+  EXPECT_EQ(faulty->report.duplicate_stamp, 1u);
+  EXPECT_EQ(faulty->report.non_finite, 1u);
+  EXPECT_NE(faulty->report.Summary().find("duplicate stamp"), std::string::npos) << faulty->report.Summary();
+
+  // No IMU topic: nothing; a named topic that is not sensor_msgs/Imu: an error naming it.
+  test::WriteSequence(tmp / "plain", scans);
+  WriteRosbag(tmp / "plain", tmp / "plain.bag", "none");
+  EXPECT_FALSE(io::ReadBagImu(tmp / "plain.bag").has_value());
+  EXPECT_IO_ERROR(io::ReadBagImu(tmp / "plain.bag", "/points"), "no sensor_msgs/msg/Imu topic '/points'");
 }
 
 // A measurement, not run by default (--gtest_also_run_disabled_tests): a large bag streams with

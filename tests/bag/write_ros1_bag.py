@@ -4,7 +4,10 @@ directory (scans/*.bin: x y z intensity t ring as float32; times.txt) as a ROS 1
 python3-rosbag (ROS Noetic's rosbag, not dammloam's code), compressed as asked, in chunks of about
 200 kB so that a bag holds several. Topics: /points (sensor_msgs/PointCloud2, fields x y z
 intensity t ring as dammloam publishes them, stamped at the scan start) and /chatter
-(std_msgs/String) in between. Run with /usr/bin/python3 (Debian's ROS packages).
+(std_msgs/String) in between; when the sequence has an imu.csv, /imu (sensor_msgs/Imu, frame "imu",
+stamped as the csv, covariances unknown) before the scan each sample precedes. A fourth argument
+"imu-faults" adds a copy of the third IMU sample (a duplicate stamp) and a sample with a NaN
+acceleration. Run with /usr/bin/python3 (Debian's ROS packages).
 
 write_ros1_bag.py --large OUT.bag MESSAGES POINTS: a bag of MESSAGES copies of one synthetic
 OS1-128-sized cloud (POINTS points, stored chunks, stamps 0.1 s apart), for the memory
@@ -17,7 +20,7 @@ from decimal import Decimal
 
 import genpy
 import rosbag
-from sensor_msgs.msg import PointCloud2, PointField
+from sensor_msgs.msg import Imu, PointCloud2, PointField
 from std_msgs.msg import String
 
 
@@ -51,7 +54,9 @@ def main():
         large(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
         return
     seq, out, compression = sys.argv[1], sys.argv[2], sys.argv[3]
+    faults = len(sys.argv) > 4 and sys.argv[4] == "imu-faults"
     times = [line.strip() for line in open(os.path.join(seq, "times.txt")) if line.strip()]
+    imu = read_imu(os.path.join(seq, "imu.csv"), faults)
     fields = [PointField("x", 0, PointField.FLOAT32, 1), PointField("y", 4, PointField.FLOAT32, 1),
               PointField("z", 8, PointField.FLOAT32, 1), PointField("intensity", 12, PointField.FLOAT32, 1),
               PointField("t", 16, PointField.FLOAT32, 1), PointField("ring", 20, PointField.UINT16, 1)]
@@ -77,8 +82,41 @@ def main():
             msg.point_step, msg.row_step = 24, 24 * n
             msg.data = bytes(data)
             msg.is_dense = True
+            while imu and imu[0][0] < stamp:
+                t, m = imu.pop(0)
+                bag.write("/imu", m, t)
             bag.write("/chatter", String(data="scan %d" % i), stamp + genpy.Duration(0, 1000))
             bag.write("/points", msg, stamp + genpy.Duration(0, 50000000))
+        for t, m in imu:
+            bag.write("/imu", m, t)
+
+
+def read_imu(path, faults):
+    """[(stamp, Imu)] from a sequence's imu.csv (t,wx,wy,wz,ax,ay,az), with the test's faults."""
+    if not os.path.exists(path):
+        return []
+    out = []
+    for k, line in enumerate(open(path).read().split("\n")[1:]):
+        if not line.strip():
+            continue
+        t, wx, wy, wz, ax, ay, az = line.split(",")
+        stamp_ns = int(round(Decimal(t) * 10**9))
+        m = Imu()
+        m.header.seq = k
+        m.header.stamp = genpy.Time(stamp_ns // 10**9, stamp_ns % 10**9)
+        m.header.frame_id = "imu"
+        m.orientation_covariance[0] = -1.0  # no orientation
+        m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z = float(wx), float(wy), float(wz)
+        m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z = float(ax), float(ay), float(az)
+        out.append((m.header.stamp, m))
+    if faults and len(out) > 6:
+        out.insert(3, out[2])
+        bad = Imu()
+        bad.header.stamp = out[6][0] + genpy.Duration(0, 1000)
+        bad.header.frame_id = "imu"
+        bad.linear_acceleration.x = float("nan")
+        out.insert(7, (bad.header.stamp, bad))
+    return out
 
 
 if __name__ == "__main__":

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "io/bag/bag_reader.hpp"
+#include "io/bag/imu_messages.hpp"
 #include "io/motion_csv.hpp"
 #include "io/sequence_meta.hpp"
 
@@ -40,9 +42,33 @@ void LogStream(const fs::path& file, const std::vector<Sample>& samples, const i
   }
 }
 
+// A bag's sensor_msgs/Imu topic; the extrinsic and noise from --sensor-meta's meta.json keys.
+InertialInput ReadBagInertialInput(const RunnerOptions& o) {
+  InertialInput input;
+  if (o.no_imu) return input;
+  std::optional<io::BagImu> imu = io::ReadBagImu(o.sequence, o.imu_topic);
+  if (!imu) return input;
+  const std::string where = o.sequence.string() + " " + imu->topic;
+  const std::optional<io::SequenceMeta> meta =
+      o.sensor_meta.empty() ? std::nullopt : std::optional(io::ReadMeta(o.sensor_meta));
+  if (meta && meta->T_sensor_imu) {
+    input.imu_description.T_sensor_imu = *meta->T_sensor_imu;
+  } else if (!o.quiet) {
+    spdlog::warn("{}: no \"imu_extrinsic\" (--sensor-meta) for IMU frame '{}': assuming the Ouster "
+                 "OS1's", where, imu->frame_id);
+  }
+  if (meta && meta->imu_noise) input.imu_description.noise = *meta->imu_noise;
+  if (meta) input.imu_description.time_offset = meta->imu_time_offset;
+  for (ImuSample& s : imu->samples) s.t -= input.imu_description.time_offset;
+  if (!o.quiet) LogStream(where, imu->samples, imu->report, "IMU");
+  input.imu = std::move(imu->samples);
+  return input;
+}
+
 }  // namespace
 
 InertialInput ReadInertialInput(const RunnerOptions& o) {
+  if (io::IsBagPath(o.sequence)) return ReadBagInertialInput(o);
   InertialInput input;
   const fs::path dir = o.sequence;
   if (!fs::is_directory(dir) || !fs::exists(dir / "meta.json")) return input;

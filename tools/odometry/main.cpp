@@ -41,7 +41,9 @@ int main(int argc, char** argv) {
   app.add_option("--stats", o.stats, "write per-scan odometry statistics CSV");
   app.add_option("--max-scans", o.max_scans, "process at most N scans");
   app.add_flag("--quiet", o.quiet, "no progress, warnings or summary");
-  app.add_flag("--no-imu", o.no_imu, "ignore the sequence's imu.csv");
+  app.add_option("--imu-topic", o.imu_topic,
+                 "bags: the sensor_msgs/Imu topic read along (default: the only one, if any)");
+  app.add_flag("--no-imu", o.no_imu, "ignore the sequence's imu.csv or the bag's IMU topic");
   app.add_flag("--no-wheel", o.no_wheel, "ignore the sequence's wheel.csv");
   auto* no_lc = app.add_flag("--no-loop-closure", no_loop_closure,
                              "odometry only: no loop detection or pose-graph correction");

@@ -20,6 +20,7 @@ struct RunnerOptions {
   std::filesystem::path events;        // JSON lines, one per LoopEvent
   std::filesystem::path save_map, load_map;
   std::string topic;                  // bags: the PointCloud2 topic
+  std::string imu_topic;              // bags: the sensor_msgs/Imu topic (empty: the only one)
   std::filesystem::path sensor_meta;  // bags: meta.json with the sensor model
   std::filesystem::path mcap;         // write the outputs as ROS 2 messages into this MCAP
   std::string mcap_compression = "zstd";  // its chunks: zstd or "" (none)
