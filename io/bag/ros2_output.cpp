@@ -60,6 +60,12 @@ std::vector<std::uint8_t> TfCdr(const CloudStamp& stamp, const std::string& pare
   return w.Take();
 }
 
+std::vector<std::uint8_t> StringCdr(std::string_view text) {
+  CdrWriter w;
+  w.String(text);
+  return w.Take();
+}
+
 std::vector<std::uint8_t> PointCloud2Cdr(const Cloud2& cloud) {
   CdrWriter w;
   Header(w, cloud.stamp, cloud.frame_id);

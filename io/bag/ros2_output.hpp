@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -21,6 +22,9 @@ std::vector<std::uint8_t> OdometryCdr(const CloudStamp& stamp, const std::string
 // tf2_msgs/msg/TFMessage with one transform parent -> child (T_parent_child).
 std::vector<std::uint8_t> TfCdr(const CloudStamp& stamp, const std::string& parent,
                                 const std::string& child, const Eigen::Isometry3d& T);
+
+// std_msgs/msg/String.
+std::vector<std::uint8_t> StringCdr(std::string_view text);
 
 // sensor_msgs/msg/PointCloud2.
 std::vector<std::uint8_t> PointCloud2Cdr(const Cloud2& cloud);

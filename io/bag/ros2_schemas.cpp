@@ -73,6 +73,11 @@ const std::string& PointCloud2Schema() {
   return schema;
 }
 
+const std::string& StringSchema() {
+  static const std::string schema = "string data\n";
+  return schema;
+}
+
 const std::string& MarkerArraySchema() {
   static const std::string schema = Join(
       "Marker[] markers\n",

@@ -11,5 +11,6 @@ const std::string& OdometrySchema();     // nav_msgs/msg/Odometry
 const std::string& TfMessageSchema();    // tf2_msgs/msg/TFMessage
 const std::string& PointCloud2Schema();  // sensor_msgs/msg/PointCloud2
 const std::string& MarkerArraySchema();  // visualization_msgs/msg/MarkerArray
+const std::string& StringSchema();       // std_msgs/msg/String
 
 }  // namespace dammloam::io

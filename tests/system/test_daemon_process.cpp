@@ -9,6 +9,9 @@
 #include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 #include "io/tum.hpp"
+#include "tests/bag/bag_fixture.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace dammloam::test {
 namespace {
@@ -140,6 +143,7 @@ TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {
   ChildProcess daemon("dammloamd", DaemonArgs(kDomain, dir / "seq"), dir / "daemon.log");
   ChildProcess record("dammloam-record",
                       {"--domain", std::to_string(kDomain), "--poses", (dir / "dds.tum").string(),
+                       "--mcap", (dir / "dds.mcap").string(),
                        "--count", std::to_string(kScans), "--timeout", "120"},
                       dir / "record.log");
   ChildProcess replay("dammloam-replay",
@@ -168,6 +172,38 @@ TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {
                                offline_poses[i].T.rotation());
     EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
   }
+
+  // dammloam-record --mcap, read back by @mcap/core (an independent reader): the same poses as
+  // ROS 2 messages, their transforms, the labelled clouds and the daemon's status.
+  if (const std::string why = NodeMissing(); !why.empty()) GTEST_SKIP() << why;
+  const CommandResult read = RunCommand("node " + (BagTestDir() / "node" / "read_mcap.cjs").string() + " " +
+                                        (dir / "dds.mcap").string());
+  ASSERT_EQ(read.exit_code, 0) << read.output.substr(0, 2000);
+  const auto mcap = nlohmann::json::parse(read.output, nullptr, false);
+  ASSERT_FALSE(mcap.is_discarded()) << read.output.substr(0, 2000);
+  std::map<std::string, std::string> schema_of;
+  for (const auto& c : mcap["channels"]) schema_of[c["topic"]] = c["schema"];
+  EXPECT_EQ(schema_of, (std::map<std::string, std::string>{
+                           {"/dammloam/odometry", "nav_msgs/msg/Odometry"},
+                           {"/tf", "tf2_msgs/msg/TFMessage"},
+                           {"/dammloam/labelled_cloud", "sensor_msgs/msg/PointCloud2"},
+                           {"/dammloam/loop_closures", "visualization_msgs/msg/MarkerArray"},
+                           {"/dammloam/status", "std_msgs/msg/String"}}));
+  const auto& odometry = mcap["topics"]["/dammloam/odometry"];
+  const auto& tf = mcap["topics"]["/tf"];
+  ASSERT_EQ(odometry.size(), online_poses.size());
+  ASSERT_EQ(tf.size(), online_poses.size());
+  for (std::size_t i = 0; i < online_poses.size(); ++i) {
+    const auto& p = odometry[i]["value"]["pose"]["pose"]["position"];
+    const Eigen::Vector3d position(p["x"], p["y"], p["z"]);
+    EXPECT_LT((position - online_poses[i].T.translation()).norm(), 1e-9) << "scan " << i;
+    EXPECT_EQ(tf[i]["value"]["transforms"][0]["transform"]["translation"]["x"], p["x"]);
+  }
+  EXPECT_EQ(mcap["topics"]["/dammloam/labelled_cloud"].size(), online_poses.size());
+  ASSERT_GE(mcap["topics"]["/dammloam/status"].size(), 1u);
+  const auto status = nlohmann::json::parse(
+      mcap["topics"]["/dammloam/status"].back()["value"]["data"].get<std::string>(), nullptr, false);
+  EXPECT_EQ(status["type"], "status");
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "services/dds/topics.hpp"
 #include "io/pcd/labelled_pcd.hpp"
 #include "io/tum.hpp"
+#include "tools/record/mcap_recording.hpp"
 
 namespace {
 
@@ -30,6 +31,7 @@ struct Options {
   std::string poses;
   std::string events;
   std::string clouds;
+  std::string mcap;
   std::uint32_t domain = 0;
   std::size_t count = 0;  // 0 = unlimited
   double timeout = 10.0;
@@ -108,11 +110,13 @@ int Run(const Options& o) {
   dds::WaitSet waitset(participant);
   waitset.Attach(odometry);
   waitset.Attach(loops);
-  if (!o.events.empty()) waitset.Attach(status);
+  if (!o.events.empty() || !o.mcap.empty()) waitset.Attach(status);
+  std::optional<tools::McapRecording> mcap;
+  if (!o.mcap.empty()) mcap.emplace(o.mcap);
   std::optional<dds::Topic> cloud_topic;
   std::optional<dds::Reader<dammloam_msg_LabelledCloud>> clouds;
-  if (!o.clouds.empty()) {
-    std::filesystem::create_directories(o.clouds);
+  if (!o.clouds.empty() || mcap) {
+    if (!o.clouds.empty()) std::filesystem::create_directories(o.clouds);
     cloud_topic.emplace(participant, dammloam_msg_LabelledCloud_desc, o.topics.labelled_cloud,
                         dds::LabelledCloudQos());
     clouds.emplace(participant, *cloud_topic, dds::TopicQos{true, 8, false});
@@ -140,20 +144,28 @@ int Run(const Options& o) {
       if (!seen.insert({m.header.stamp.sec, m.header.stamp.nanosec}).second) return;
       if (o.count != 0 && poses.size() >= o.count) return;
       poses.push_back({dds::ToSeconds(m.header.stamp), dds::FromMsgPose(m.pose)});
+      if (mcap) mcap->AddOdometry(m);
     }, 64);
     loops.TakeEach([&](const dammloam_msg_LoopClosure& m, const dds_sample_info_t&) {
       last_data = Clock::now();
       if (events.is_open()) events << LoopJson(m).dump() << '\n' << std::flush;
+      if (mcap) mcap->AddLoop(m);
     });
-    if (events.is_open()) {
+    if (events.is_open() || mcap) {
       status.TakeEach([&](const dammloam_msg_DaemonStatus& m, const dds_sample_info_t&) {
-        events << StatusJson(m).dump() << '\n' << std::flush;
+        const std::string line = StatusJson(m).dump();
+        if (events.is_open()) events << line << '\n' << std::flush;
+        if (mcap) mcap->AddStatus(m.header.stamp, line);
       });
     }
     if (clouds) {
       clouds->TakeEach([&](const dammloam_msg_LabelledCloud& m, const dds_sample_info_t&) {
         last_data = Clock::now();
-        WriteCloud(o, m);
+        if (!o.clouds.empty()) WriteCloud(o, m);
+        std::string error;
+        if (mcap && !mcap->AddLabelledCloud(m, &error)) {
+          spdlog::warn("labelled cloud {}: {}", Stamp(m.header.stamp), error);
+        }
       });
     }
   }
@@ -161,7 +173,8 @@ int Run(const Options& o) {
   std::sort(poses.begin(), poses.end(),
             [](const io::StampedPose& a, const io::StampedPose& b) { return a.t < b.t; });
   io::WriteTum(o.poses, poses);
-  spdlog::info("wrote {} poses to {}{}", poses.size(), o.poses,
+  if (mcap) mcap->Close();
+  spdlog::info("wrote {} poses to {}{}{}", poses.size(), o.poses, mcap ? " and " + o.mcap : "",
                g_stop ? " (stopped by signal)" : "");
   return 0;
 }
@@ -175,6 +188,9 @@ int main(int argc, char** argv) {
   app.add_option("--events", o.events, "output JSON lines: loop closures and status");
   app.add_option("--clouds", o.clouds, "output directory for labelled clouds (PCD)");
   app.add_flag("--clouds-in-map-frame", o.clouds_in_map_frame, "write map-frame coordinates");
+  app.add_option("--mcap", o.mcap,
+                 "also write everything as ROS 2 messages into this MCAP (odometry, /tf, labelled "
+                 "clouds, loop closures, status) for Foxglove, Lichtblick or ros2 bag play");
   app.add_option("--domain", o.domain, "DDS domain id");
   app.add_option("--count", o.count, "exit after this many poses (0 = no limit)");
   app.add_option("--timeout", o.timeout, "exit after this many seconds without data")
