@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "io/bag/bag_scans.hpp"
+#include "io/bag/imu_messages.hpp"
 #include "io/bag/mcap_reader.hpp"
 #include "io/bag/mcap_writer.hpp"
 #include "io/bag/pointcloud2_cdr.hpp"
@@ -30,7 +31,13 @@ void Run(Input& in) {
       if (m.size > bytes.size() * 1024 + (4u << 20)) Finding("McapReader returned an oversized message");
       const auto& channel = reader.channels().at(m.channel_id);
       const auto schema = reader.schemas().find(channel.schema_id);
-      if (schema == reader.schemas().end() || schema->second.name != io::kPointCloud2Type) continue;
+      if (schema == reader.schemas().end() || schema->second.name != io::kPointCloud2Type) {
+        try {  // any other message also as the sensor_msgs/Imu read along with the clouds
+          io::DecodeImuCdr(m.data, m.size, m.data_offset, m.where);
+        } catch (const io::IoError&) {
+        }
+        continue;
+      }
       const io::DecodedCloud cloud = io::DecodePointCloud2(m.data, m.size, m.data_offset, m.where);
       const CloudConversion c = CloudToScan(cloud.View(), io::RecordedCloudLimits());
       if (c.scan && c.scan->empty()) Finding("CloudToScan succeeded with no points");

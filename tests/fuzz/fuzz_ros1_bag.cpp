@@ -1,6 +1,7 @@
 // The ROS 1 bag reader (io::Ros1Bag: bag header, index section or a scan pass, chunks stored /
 // bz2 / lz4, connection and message-data records) as dammloam-odometry reads a .bag, with every
-// message of a PointCloud2 topic decoded from the ROS 1 serialisation and converted.
+// message of a PointCloud2 topic decoded from the ROS 1 serialisation and converted, and every
+// message of any other topic also decoded as a sensor_msgs/Imu (the IMU read along).
 //
 // Input: the whole file, written to a scratch file since the reader takes a path. Records and
 // chunks are limited to 4 MiB (a larger length is reported as corrupt). Only io::IoError may
@@ -11,6 +12,7 @@
 #include <cstdint>
 
 #include "io/bag/bag_scans.hpp"
+#include "io/bag/imu_messages.hpp"
 #include "io/bag/pointcloud2_cdr.hpp"
 #include "io/bag/ros1_bag.hpp"
 #include "tests/bag/ros1_bag_bytes.hpp"
@@ -33,7 +35,14 @@ void Run(Input& in) {
       io::BagMessage m;
       for (int i = 0; i < 1000 && bag.Next(m); ++i) {
         if (m.size > (4u << 20)) Finding("Ros1Bag returned a message larger than a chunk");
-        if (topic.type != io::kPointCloud2Type) continue;
+        if (topic.type != io::kPointCloud2Type) {
+          try {
+            io::DecodeImuRos1(m.data, m.size, m.data_offset, m.where);
+          } catch (const io::IoError&) {
+            // not an Imu: documented
+          }
+          continue;
+        }
         const io::DecodedCloud cloud = io::DecodePointCloud2Ros1(m.data, m.size, m.data_offset, m.where);
         const CloudConversion c = CloudToScan(cloud.View(), io::RecordedCloudLimits());
         if (c.scan && c.scan->empty()) Finding("CloudToScan succeeded with no points");
