@@ -1,4 +1,5 @@
-// Ouster and Velodyne captures as inputs of dammloam-odometry (tools/odometry/pcap_source.cpp):
+// Ouster and Velodyne captures as inputs of dammloam-odometry (tools/inputs/pcap_source.cpp), and
+// bags of raw Ouster packets (tools/inputs/ouster_bag_source.cpp):
 // the real pcaps of ../shared/data (ouster_sdk_pcaps, velodyne_ouster_pcaps_rust_lidar_utils),
 // skipped when that folder is absent. The odometry on them: inputs_odometry_test.cpp.
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include "tests/support/temp_dir.hpp"
 #include "tests/tools/test_support.hpp"
 #include "tools/inputs/pcap_source.hpp"
+#include "tools/inputs/scan_input.hpp"
 
 namespace dammloam {
 namespace {
@@ -124,6 +126,50 @@ TEST(Pcap, TruncatedCaptureIsAnErrorNamingTheRecordAndOffset) {
                   "which ends at byte");
   std::ofstream(tmp / "empty.pcap", std::ios::binary).write(bytes.data(), 10);
   EXPECT_IO_ERROR(DecodeAll(tmp / "empty.pcap", {OusterDir() / "OS-0-128-U1_v2.3.0_1024x10.json", "", ""}), "empty.pcap");
+}
+
+// ouster-ros records raw packets (PacketMsg on /ouster/lidar_packets and /ouster/imu_packets):
+// a bag of the capture's own packets, written by @mcap/core, gives the capture's scans exactly.
+TEST(OusterPacketBag, GivesTheScansOfTheCaptureItWasRecordedFrom) {
+  const fs::path pcap = OusterDir() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  const fs::path metadata = OusterDir() / "OS-1-128_v2.3.0_1024x10.json";
+  DAMMLOAM_REQUIRE_DATA(pcap);
+  if (const std::string why = test::NodeMissing(); !why.empty()) GTEST_SKIP() << why;
+  test::TempDir tmp;
+  const fs::path bag = tmp / "packets.mcap";
+  const auto w = test::RunCommand("node " + (test::BagTestDir() / "node" / "write_ouster_packets_mcap.cjs").string() +
+                                  " " + pcap.string() + " " + bag.string() + " 2>&1");
+  ASSERT_EQ(w.exit_code, 0) << w.output;
+  EXPECT_NE(w.output.find("222 packets"), std::string::npos) << w.output;  // 192 lidar + 30 IMU
+
+  tools::ScanInputOptions from_bag;
+  from_bag.path = bag;
+  from_bag.ouster_metadata = metadata;
+  from_bag.quiet = true;
+  tools::ScanInputOptions from_pcap;
+  from_pcap.path = pcap;
+  from_pcap.quiet = true;
+  auto a = tools::OpenScanInput(from_bag);
+  auto b = tools::OpenScanInput(from_pcap);
+  EXPECT_EQ(a->kind(), "ouster packets");
+  EXPECT_EQ(a->model().rings, b->model().rings);
+  std::size_t scans = 0;
+  for (std::optional<Scan> sa = a->Next(), sb = b->Next(); sa || sb; sa = a->Next(), sb = b->Next(), ++scans) {
+    ASSERT_TRUE(sa && sb) << "scan " << scans;
+    EXPECT_EQ(sa->t_start, sb->t_start);
+    ASSERT_EQ(sa->size(), sb->size());
+    EXPECT_EQ(sa->points, sb->points);
+    EXPECT_EQ(sa->times, sb->times);
+  }
+  EXPECT_EQ(scans, 3u);
+
+  // Without the metadata the error says what is missing.
+  tools::ScanInputOptions bare;
+  bare.path = bag;
+  EXPECT_IO_ERROR(tools::OpenScanInput(bare), "no sensor_msgs/msg/PointCloud2 topic", "--ouster-metadata");
+  // The IMU packets are no lidar packets: a clear error, never a crash.
+  from_bag.topic = "/ouster/imu_packets";
+  EXPECT_IO_ERROR(tools::OpenScanInput(from_bag)->Next(), "no complete Ouster frame");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/bag/bag_reader.hpp"
+#include "tools/inputs/ouster_bag_source.hpp"
 #include "tools/inputs/pcap_source.hpp"
 #include "tools/inputs/velodyne_bag_source.hpp"
 
@@ -20,7 +21,12 @@ std::unique_ptr<io::ScanSource> OpenScanInput(const ScanInputOptions& o) {
     return source;
   }
   if (!o.ouster_metadata.empty()) {
-    throw std::runtime_error("--ouster-metadata is for Ouster captures (.pcap)");
+    if (!io::IsBagPath(o.path)) {
+      throw std::runtime_error("--ouster-metadata is for Ouster captures (.pcap) and bags of Ouster packets");
+    }
+    auto source = OpenOusterBag(o.path, o.topic, o.ouster_metadata);
+    if (!o.quiet) spdlog::info("{}: {}", o.path.string(), source->Describe());
+    return source;
   }
   if (!o.velodyne_model.empty() || !o.velodyne_calibration.empty()) {
     if (o.velodyne_model.empty() || o.velodyne_calibration.empty() || !io::IsBagPath(o.path)) {
@@ -29,7 +35,16 @@ std::unique_ptr<io::ScanSource> OpenScanInput(const ScanInputOptions& o) {
     }
     return OpenVelodyneBag(o.path, o.topic, o.velodyne_model, o.velodyne_calibration);
   }
-  auto source = io::OpenScanSource(o.path, {o.topic, o.sensor_meta, o.scan_period});
+  std::unique_ptr<io::ScanSource> source;
+  try {
+    source = io::OpenScanSource(o.path, {o.topic, o.sensor_meta, o.scan_period});
+  } catch (const io::IoError& e) {
+    if (io::IsBagPath(o.path) && HasOusterPackets(o.path)) {
+      throw io::IoError(std::string(e.what()) + "; for its Ouster packets give the sensor's metadata: "
+                        "--ouster-metadata FILE.json");
+    }
+    throw;
+  }
   if (source->kind() == "sequence" && (!o.topic.empty() || !o.sensor_meta.empty() || o.scan_period > 0.0)) {
     throw std::runtime_error(o.path.string() + ": --topic, --sensor-meta and --scan-period are for "
                              "bags and cloud folders; a sequence directory has its own meta.json");
