@@ -1,8 +1,11 @@
 // dammloam-replay on recordings other than sequence directories (issue 54): the scans of a real
 // Ouster capture arrive over DDS as the offline reader gives them, at the capture's own stamps,
-// and --write-sensor-meta hands dammloamd the model they were read with.
+// and --write-sensor-meta hands dammloamd the model they were read with; the latency benchmark
+// replays the same capture into a dammloamd of its own.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "io/sequence_meta.hpp"
@@ -92,6 +95,31 @@ TEST(ReplayRecordings, OusterCaptureArrivesAsTheOfflineReaderGivesIt) {
   Replay({pcap.string(), "--start-index", "5"}, dir / "replay3.log", &code, &log);
   EXPECT_EQ(code, 2) << log;
   EXPECT_NE(log.find("beyond the recording's 3 scans"), std::string::npos) << log;
+}
+
+TEST(ReplayRecordings, LatencyBenchmarkReplaysACaptureIntoTheDaemon) {
+  UseLoopbackDds();
+  if (!ToolExists("dammloam-bench-latency") || !ToolExists("dammloamd")) {
+    GTEST_SKIP() << "dammloam-bench-latency or dammloamd not built";
+  }
+  const std::filesystem::path pcap = DataDir() / "ouster_sdk_pcaps" / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  DAMMLOAM_REQUIRE_DATA(pcap);
+  const TempDir dir("bench-recording");
+  ChildProcess bench("dammloam-bench-latency",
+                     {"--domain", std::to_string(kDomain + 1), "--sequence", pcap.string(), "--json",
+                      (dir / "latency.json").string()},
+                     dir / "bench.log");
+  const std::optional<int> code = bench.Wait(milliseconds(120000));
+  ASSERT_TRUE(code.has_value()) << bench.Log();
+  ASSERT_EQ(*code, 0) << bench.Log();
+  std::ifstream in(dir / "latency.json");
+  const auto report = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << bench.Log();
+  const auto& run = report["runs"][0];
+  EXPECT_EQ(run["sent"], 3);
+  EXPECT_EQ(run["received"], 3) << bench.Log();
+  EXPECT_EQ(run["drops"], 0);
+  EXPECT_NEAR(run["rate_hz"].get<double>(), 10.0, 0.2);  // the capture's own 10 Hz
 }
 
 }  // namespace

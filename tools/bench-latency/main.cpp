@@ -20,6 +20,7 @@
 #include "tools/common/dds_tool_main.hpp"
 #include "io/sequence_io.hpp"
 #include "io/sequence_meta.hpp"
+#include "tools/inputs/scan_input.hpp"
 #include "tools/simulate/simulator.hpp"
 
 namespace {
@@ -37,7 +38,8 @@ struct Options {
   std::vector<double> fallback = {5.0, 2.0, 1.0};  // tried downwards when no rate held
   std::string sensor = "os1-64";
   std::string scene = "corridor";
-  std::string sequence;           // empty: simulated mode
+  std::string sequence;           // empty: simulated mode; else any recording tools/inputs reads
+  tools::ScanInputOptions input;  // bags, captures, cloud folders: how to read them
   double speed = 1.0;             // over the recorded rate
   std::size_t read_ahead = 32;    // scans (an OS1-64 sample is ~1.5 MiB)
   std::string json_path;
@@ -184,16 +186,69 @@ void WriteSequenceJson(const Options& o, const RunResult& r, const ReplayCost& c
   bench::WriteJson(o.json_path, report);
 }
 
+// A recording other than a sequence directory: one pass for the stamps (a bag streams, so the
+// publisher's schedule is known only by reading it), then a second source read as it is
+// published. dammloamd gets the model the scans were read with as a meta.json.
+struct Recording {
+  std::unique_ptr<io::ScanSource> stamps_pass, source;
+  bench::RecordedScans scans;
+  io::SequenceMeta meta;
+};
+
+Recording OpenRecording(const Options& o) {
+  Recording r;
+  tools::ScanInputOptions input = o.input;
+  input.path = o.sequence;
+  r.stamps_pass = tools::OpenScanInput(input);
+  input.quiet = true;
+  r.source = tools::OpenScanInput(input);
+  const std::size_t limit = o.scans_given ? static_cast<std::size_t>(o.scans) : 0;
+  r.scans.name = o.sequence;
+  while (limit == 0 || r.scans.times.size() < limit) {
+    std::optional<Scan> scan = r.stamps_pass->Next();
+    if (!scan) break;
+    r.scans.times.push_back(scan->t_start);
+  }
+  if (r.scans.times.empty()) throw io::IoError(o.sequence + ": no scans");
+  io::ScanSource* source = r.source.get();
+  const std::string name = o.sequence;
+  r.scans.read = [source, name](std::size_t) {
+    std::optional<Scan> scan = source->Next();
+    if (!scan) throw io::IoError(name + ": ended before its stamps pass did");
+    return std::move(*scan);
+  };
+  r.meta.sensor = r.source->kind();
+  r.meta.model = r.source->model();
+  return r;
+}
+
 int RunSequence(const Options& o) {
-  const io::SequenceReader sequence = io::SequenceReader::Open(o.sequence);
-  const std::size_t count = SequenceScanCount(o, sequence);
-  bench::CheckScanFileSizes(sequence, count);
-  const fs::path meta = SensorMetaFor(sequence);
+  std::optional<io::SequenceReader> sequence;
+  std::optional<Recording> recording;
+  bench::RecordedScans scans;
+  std::size_t count = 0;
+  fs::path meta;
+  std::string sensor;
+  if (fs::is_directory(o.sequence) && fs::exists(fs::path(o.sequence) / "meta.json")) {
+    sequence.emplace(io::SequenceReader::Open(o.sequence));
+    count = SequenceScanCount(o, *sequence);
+    bench::CheckScanFileSizes(*sequence, count);
+    meta = SensorMetaFor(*sequence);
+    scans = bench::SequenceScans(*sequence);
+    sensor = sequence->meta().sensor;
+  } else {
+    recording.emplace(OpenRecording(o));
+    scans = std::move(recording->scans);
+    count = scans.times.size();
+    meta = TempPath(".json");
+    io::WriteMeta(meta, recording->meta);
+    sensor = recording->meta.sensor;
+  }
+  const std::size_t whole = scans.times.size();
   const fs::path log = TempPath(".dammloamd.log");
-  bench::SequenceSource source(sequence, count, o.speed, o.read_ahead);
+  bench::SequenceSource source(std::move(scans), count, o.speed, o.read_ahead);
   spdlog::info("sequence {}: {} of {} {} scans at {:.2f} Hz ({}x the recorded rate), read-ahead {}",
-               o.sequence, count, sequence.size(), sequence.meta().sensor, source.Rate(), o.speed,
-               o.read_ahead);
+               o.sequence, count, whole, sensor, source.Rate(), o.speed, o.read_ahead);
   std::optional<bench::DaemonChild> daemon;
   if (!o.external) daemon.emplace(o.domain, meta, o.daemon_args, log);
   source.WaitUntilFilled();
@@ -202,7 +257,7 @@ int RunSequence(const Options& o) {
       source);
   r.rate = source.Rate();
   daemon.reset();
-  if (meta != sequence.dir() / "meta.json") fs::remove(meta);
+  if (meta != fs::path(o.sequence) / "meta.json") fs::remove(meta);
   const ReplayCost cost{source.LowestFill(), source.MeanReadMs(), bench::PeakResidentMiB()};
   bench::PrintRateRow(r);
   bench::PrintDrops(r);
@@ -231,9 +286,20 @@ int main(int argc, char** argv) {
                     ->check(CLI::PositiveNumber);
   auto* sequence = app.add_option(
       "--sequence", o.sequence,
-      "replay this sequence directory (meta.json, times.txt, scans/) at the instants of its "
-      "times.txt and report drops (ours and dammloamd's Status) and latency; dammloamd gets its "
-      "meta.json as --sensor-meta");
+      "replay this recording at its recorded instants and report drops (ours and dammloamd's "
+      "Status) and latency: a sequence directory (dammloamd gets its meta.json as --sensor-meta) or "
+      "any input dammloam-odometry reads (rosbag2, .mcap, ROS 1 .bag, .pcap, cloud folder; "
+      "dammloamd gets the model the scans were read with)");
+  app.add_option("--topic", o.input.topic, "with --sequence, bags: the PointCloud2 (or packet) topic")
+      ->needs(sequence);
+  app.add_option("--sensor-meta", o.input.sensor_meta,
+                 "with --sequence, bags and cloud folders: meta.json with the sensor model")->needs(sequence);
+  app.add_option("--ouster-metadata", o.input.ouster_metadata,
+                 "with --sequence, Ouster captures and packet bags: the metadata JSON")->needs(sequence);
+  app.add_option("--velodyne-model", o.input.velodyne_model, "with --sequence, raw Velodyne packets")
+      ->needs(sequence);
+  app.add_option("--velodyne-calibration", o.input.velodyne_calibration,
+                 "with --sequence, raw Velodyne packets: calibration YAML")->needs(sequence);
   app.add_option("--speed", o.speed, "with --sequence: speed factor over the recorded rate")
       ->check(CLI::PositiveNumber)->needs(sequence);
   app.add_option("--read-ahead", o.read_ahead,

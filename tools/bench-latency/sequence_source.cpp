@@ -7,10 +7,10 @@
 
 namespace dammloam::bench {
 
-SequenceSource::SequenceSource(const io::SequenceReader& sequence, std::size_t count,
-                               double speed, std::size_t read_ahead)
-    : sequence_(sequence),
-      count_(std::min(count, sequence.size())),
+SequenceSource::SequenceSource(RecordedScans scans, std::size_t count, double speed,
+                               std::size_t read_ahead)
+    : scans_(std::move(scans)),
+      count_(std::min(count, scans_.times.size())),
       speed_(speed),
       read_ahead_(std::max<std::size_t>(read_ahead, 1)),
       lowest_fill_(read_ahead_),
@@ -26,13 +26,13 @@ SequenceSource::~SequenceSource() {
 }
 
 Clock::duration SequenceSource::DueAfterStart(std::size_t index) const {
-  const double seconds = (sequence_.times()[index] - sequence_.times().front()) / speed_;
+  const double seconds = (scans_.times[index] - scans_.times.front()) / speed_;
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
 double SequenceSource::Rate() const {
   if (count_ < 2) return 0.0;
-  const double span = sequence_.times()[count_ - 1] - sequence_.times().front();
+  const double span = scans_.times[count_ - 1] - scans_.times.front();
   return span > 0.0 ? speed_ * static_cast<double>(count_ - 1) / span : 0.0;
 }
 
@@ -93,7 +93,7 @@ bool SequenceSource::ReadOne(std::size_t index) {
   bool ok = true;
   try {
     const auto start = Clock::now();
-    dds::CloudMessage cloud = dds::ScanToCloud(sequence_.ReadScan(index), "lidar", index);
+    dds::CloudMessage cloud = dds::ScanToCloud(scans_.read(index), "lidar", index);
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     std::lock_guard lock(mutex_);
     ready_.push_back(std::move(cloud));
@@ -102,11 +102,16 @@ bool SequenceSource::ReadOne(std::size_t index) {
   } catch (const std::exception& e) {
     std::lock_guard lock(mutex_);
     read_error_ = std::make_exception_ptr(std::runtime_error(
-        "scan " + std::to_string(index) + " of " + sequence_.dir().string() + ": " + e.what()));
+        "scan " + std::to_string(index) + " of " + scans_.name + ": " + e.what()));
     ok = false;
   }
   filled_.notify_all();
   return ok;
+}
+
+RecordedScans SequenceScans(const io::SequenceReader& sequence) {
+  return {sequence.dir().string(), sequence.times(),
+          [&sequence](std::size_t index) { return sequence.ReadScan(index); }};
 }
 
 void CheckScanFileSizes(const io::SequenceReader& sequence, std::size_t count) {

@@ -1,17 +1,29 @@
 #pragma once
-// The scans of a recorded sequence directory, published at its recorded instants.
+// The scans of a recording (a sequence directory, a bag, a capture), published at their
+// recorded instants.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "tools/bench-latency/latency_run.hpp"
 #include "io/sequence_io.hpp"
 
 namespace dammloam::bench {
+
+// What SequenceSource needs of a recording: the start stamp of every scan it will publish, and
+// a reader called with 0, 1, 2, ... in that order (a bag streams; a directory reads any file).
+struct RecordedScans {
+  std::string name;            // for error messages
+  std::vector<double> times;   // scan start stamps, seconds
+  std::function<Scan(std::size_t index)> read;
+};
 
 // Reads and converts scans on its own thread, at most `read_ahead` publish-ready samples ahead of
 // the publisher: a whole OS1-64 sequence would take GBs (2500 x 1.5 MiB as samples, more as
@@ -19,10 +31,9 @@ namespace dammloam::bench {
 // thread keeps file I/O and conversion off the publish schedule.
 class SequenceSource : public ScanSource {
  public:
-  // The first `count` scans of `sequence` (which must outlive this object), due at
-  // (times[k] - times[0]) / speed after the start, stamped with times[k].
-  SequenceSource(const io::SequenceReader& sequence, std::size_t count, double speed,
-                 std::size_t read_ahead);
+  // The first `count` scans of `scans`, due at (times[k] - times[0]) / speed after the start,
+  // stamped with times[k].
+  SequenceSource(RecordedScans scans, std::size_t count, double speed, std::size_t read_ahead);
   ~SequenceSource() override;  // stops and joins the reading thread
   SequenceSource(const SequenceSource&) = delete;
   SequenceSource& operator=(const SequenceSource&) = delete;
@@ -48,7 +59,7 @@ class SequenceSource : public ScanSource {
   bool ReadOne(std::size_t index);  // false after a read error (kept for the publisher)
   void RethrowReadError() const;    // mutex_ held
 
-  const io::SequenceReader& sequence_;
+  const RecordedScans scans_;
   const std::size_t count_;
   const double speed_;
   const std::size_t read_ahead_;
@@ -68,5 +79,8 @@ class SequenceSource : public ScanSource {
 // Throws IoError naming the first of the first `count` scan files whose size is not a whole
 // number of points, so that a truncated file fails before the run, not minutes into it.
 void CheckScanFileSizes(const io::SequenceReader& sequence, std::size_t count);
+
+// A sequence directory's scans (`sequence` must outlive the result).
+RecordedScans SequenceScans(const io::SequenceReader& sequence);
 
 }  // namespace dammloam::bench
