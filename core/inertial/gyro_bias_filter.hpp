@@ -1,0 +1,42 @@
+#pragma once
+#include <Eigen/Core>
+
+#include "core/inertial/inertial_config.hpp"
+
+// The gyroscope's bias, estimated online (issue 55): a three-state Kalman filter whose
+// measurements are how far the rotation the LiDAR registered between two scans departs from
+// the rotation the gyro integrated over the same interval with the current bias estimate.
+namespace dammloam {
+
+struct GyroBiasConfig {
+  // Prior on the bias at start-up, 1 sigma per axis, rad/s: a turned-on ICM-20948 is within
+  // ~0.3 deg/s (docs/presets.md); 0.5 deg/s leaves room for an untrimmed part.
+  double initial_sigma = 0.5 * 3.14159265358979323846 / 180.0;
+  // A departure beyond this chi-square (3 degrees of freedom, 99.9 %) is not the bias: a
+  // registration that slipped, a time offset; it is not learnt from.
+  double gate_chi2 = 16.27;
+};
+
+class GyroBiasFilter {
+ public:
+  GyroBiasFilter(const ImuNoise& noise, const GyroBiasConfig& config);
+
+  const Eigen::Vector3d& bias() const { return bias_; }              // rad/s, IMU frame
+  const Eigen::Matrix3d& covariance() const { return covariance_; }  // IMU frame
+  // The bias walks between measurements: its uncertainty grows over dt seconds.
+  void Propagate(double dt);
+  // `departure` = Log(R_gyro^T R_measured) over `interval` seconds (sensor frame at the end),
+  // with the measurement's own covariance (sensor frame; the gyro's white noise is added here).
+  // A rate bias db rotates the gyro's estimate by about interval * db, so the departure is
+  // -interval * R_sensor_imu * db. Returns false when gated out.
+  bool Update(const Eigen::Vector3d& departure, const Eigen::Matrix3d& measurement_covariance,
+              double interval, const Eigen::Matrix3d& R_sensor_imu);
+
+ private:
+  ImuNoise noise_;
+  GyroBiasConfig config_;
+  Eigen::Vector3d bias_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance_;
+};
+
+}  // namespace dammloam
