@@ -7,6 +7,7 @@ namespace dammloam {
 GyroBiasFilter::GyroBiasFilter(const ImuNoise& noise, const GyroBiasConfig& config)
     : noise_(noise),
       config_(config),
+      bias_(config.initial_bias),
       covariance_(config.initial_sigma * config.initial_sigma * Eigen::Matrix3d::Identity()) {}
 
 void GyroBiasFilter::Propagate(double dt) {
@@ -18,7 +19,8 @@ void GyroBiasFilter::Propagate(double dt) {
 bool GyroBiasFilter::Update(const Eigen::Vector3d& departure,
                             const Eigen::Matrix3d& measurement_covariance, double interval,
                             const Eigen::Matrix3d& R_sensor_imu) {
-  if (!(interval > 0.0) || !departure.allFinite() || !measurement_covariance.allFinite()) {
+  if (!config_.estimate || !(interval > 0.0) || !departure.allFinite() ||
+      !measurement_covariance.allFinite()) {
     return false;
   }
   const double n = noise_.gyro_noise_density;

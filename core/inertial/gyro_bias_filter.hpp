@@ -15,6 +15,10 @@ struct GyroBiasConfig {
   // A departure beyond this chi-square (3 degrees of freedom, 99.9 %) is not the bias: a
   // registration that slipped, a time offset; it is not learnt from.
   double gate_chi2 = 16.27;
+  // The bias at start-up (IMU frame, rad/s): a calibration's, else zero.
+  Eigen::Vector3d initial_bias = Eigen::Vector3d::Zero();
+  // false: the bias stays at initial_bias (a calibrated unit; comparisons).
+  bool estimate = true;
 };
 
 class GyroBiasFilter {
