@@ -1,6 +1,8 @@
 #include "core/inertial/gyro_bias_filter.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
 
 namespace dammloam {
 
@@ -29,12 +31,17 @@ bool GyroBiasFilter::Update(const Eigen::Vector3d& departure,
                             n * n * interval * Eigen::Matrix3d::Identity();
   const Eigen::LDLT<Eigen::Matrix3d> S_ldlt(S);
   if (S_ldlt.info() != Eigen::Success || !S_ldlt.isPositive()) return false;
-  if (departure.dot(S_ldlt.solve(departure)) > config_.gate_chi2) return false;
+  const double chi2 = departure.dot(S_ldlt.solve(departure));
+  const bool inside = chi2 <= config_.gate_chi2;
+  // Beyond the gate the departure is shortened to it (Huber).
+  const double scale = inside ? 1.0 : std::sqrt(config_.gate_chi2 / chi2);
   const Eigen::Matrix3d K = S_ldlt.solve(H * covariance_).transpose();  // P H^T S^-1 (S, P symmetric)
-  bias_ += K * departure;
+  bias_ += K * (scale * departure);
   covariance_ = (Eigen::Matrix3d::Identity() - K * H) * covariance_;
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
-  return true;
+  const double floor = config_.min_sigma * config_.min_sigma;
+  for (int i = 0; i < 3; ++i) covariance_(i, i) = std::max(covariance_(i, i), floor);
+  return inside;
 }
 
 }  // namespace dammloam

@@ -137,7 +137,8 @@ TEST(GyroIntegration, CovarianceIsNoiseTimesIntervalPlusBiasTimesIntervalSquared
 }
 
 // Departures of the LiDAR's rotation from the gyro's over 0.1 s intervals, with 2e-4 rad of
-// registration noise: the filter finds a 0.3 deg/s bias to within 0.01 deg/s in 300 scans.
+// registration noise: the filter finds a 0.3 deg/s bias to within 0.02 deg/s in 300 scans
+// (its uncertainty is held at 0.02 deg/s or more, so that it keeps following).
 TEST(GyroBiasFilter, RecoversABiasFromRotationDepartures) {
   const Eigen::Vector3d true_bias = Eigen::Vector3d(0.3, -0.2, 0.25) * std::numbers::pi / 180.0;
   const Eigen::Matrix3d R_si = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
@@ -155,18 +156,38 @@ TEST(GyroBiasFilter, RecoversABiasFromRotationDepartures) {
     accepted += filter.Update(departure, measurement, dt, R_si) ? 1 : 0;
   }
   EXPECT_GT(accepted, 290);
-  const double tolerance = 0.01 * std::numbers::pi / 180.0;
+  const double tolerance = 0.02 * std::numbers::pi / 180.0;
   EXPECT_LT((filter.bias() - true_bias).cwiseAbs().maxCoeff(), tolerance)
       << (filter.bias() * 180.0 / std::numbers::pi).transpose();
-  EXPECT_LT(std::sqrt(filter.covariance().diagonal().maxCoeff()), tolerance);
+  EXPECT_LT(std::sqrt(filter.covariance().diagonal().maxCoeff()), 1.01 * tolerance);
 }
 
-TEST(GyroBiasFilter, AnOutlierIsNotLearnt) {
+TEST(GyroBiasFilter, AnOutlierMovesTheBiasLittle) {
   GyroBiasFilter filter{ImuNoise{}, GyroBiasConfig{}};
   const Eigen::Matrix3d measurement = 2e-4 * 2e-4 * Eigen::Matrix3d::Identity();
-  // A 2 deg slip in 0.1 s would be a 20 deg/s bias.
-  EXPECT_FALSE(filter.Update(Eigen::Vector3d(0.035, 0, 0), measurement, 0.1, Eigen::Matrix3d::Identity()));
-  EXPECT_EQ(filter.bias(), Eigen::Vector3d::Zero());
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 300; ++k) filter.Update(0.1 * filter.bias(), measurement, 0.1, I);  // truth 0
+  // A 2 deg slip in 0.1 s would be a 20 deg/s bias: it counts as a 4-sigma departure.
+  EXPECT_FALSE(filter.Update(Eigen::Vector3d(0.035, 0, 0), measurement, 0.1, I));
+  EXPECT_LT(filter.bias().norm() * 180.0 / std::numbers::pi, 0.05);
+}
+
+// Confident in a wrong bias (1 deg/s off), the filter still follows departures that say so:
+// a hard gate would refuse every one of them.
+TEST(GyroBiasFilter, AConfidentWrongBiasIsCorrected) {
+  const double deg = std::numbers::pi / 180.0;
+  GyroBiasFilter filter{ImuNoise{}, GyroBiasConfig{}};
+  const Eigen::Matrix3d measurement = 2e-4 * 2e-4 * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 300; ++k) {  // learns 1 deg/s on y
+    filter.Update(-0.1 * (Eigen::Vector3d(0, 1.0 * deg, 0) - filter.bias()), measurement, 0.1, I);
+  }
+  ASSERT_NEAR(filter.bias().y(), 1.0 * deg, 0.01 * deg);
+  for (int k = 0; k < 600; ++k) {  // the truth is 0
+    filter.Propagate(0.1);
+    filter.Update(-0.1 * (Eigen::Vector3d::Zero() - filter.bias()), measurement, 0.1, I);
+  }
+  EXPECT_LT(std::abs(filter.bias().y()), 0.05 * deg);
 }
 
 }  // namespace
