@@ -193,12 +193,14 @@ Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d
 // The gyro measured how the sensor turned through the scan (a hand's shake reverses within
 // it); the translation stays the constant velocity's, which the scan's data corrects.
 Eigen::Isometry3d Odometry::DeskewWithGyro(ClassifiedScan& scan, const Vector6d& velocity,
-                                           const GyroTrack& gyro) const {
+                                           const GyroTrack& gyro,
+                                           const std::optional<Eigen::Vector3d>& v_start) const {
   const double period = sensor_.scan_period;
   const Vector6d xi = velocity * period;
   const double t_start = scan.scan.t_start;
   const auto start_point = [&](double tau) {
     Eigen::Isometry3d T = ExpSE3((tau / period) * xi);
+    if (v_start) T.translation() = tau * *v_start;
     T.linear() = gyro.At(t_start + tau);
     return T;
   };
@@ -401,6 +403,15 @@ Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan, GyroTracks gyro) const {
   // guess; the raw scan is kept so that it can be redone with the measured motion.
   if (config_.deskew && scan.scan.has_times() && !motion_model_holds_) frame.raw = scan;
   frame.scan = std::move(scan);
+  if (frame.gyro_interval && config_.deskew && frame.scan.scan.has_times()) {
+    // The carrier's velocity is held in the world, not in the sensor frame: a hand swings the
+    // sensor 60-90 deg between sparse scans while the walk goes on the same way.
+    const Eigen::Matrix3d R_world_start =
+        T_world_last_.linear() * frame.gyro_interval->At(frame.scan.scan.t_start);
+    const Eigen::Vector3d v_start = R_world_start.transpose() * WorldVelocity(sensor_.scan_period);
+    frame.T_mid_start = DeskewWithGyro(frame.scan, velocity_, *frame.gyro_scan, v_start);
+    return frame;
+  }
   frame.T_mid_start =
       DeskewToMidScan(frame.scan, velocity_, frame.gyro_scan ? &*frame.gyro_scan : nullptr);
   return frame;
@@ -435,6 +446,9 @@ std::size_t Odometry::RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor) {
 
 RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   frame.T_pred = Predict(velocity_, dt, frame);
+  if (frame.gyro_interval) {
+    frame.T_pred.translation() = T_world_last_.translation() + dt * WorldVelocity(dt);
+  }
   frame.T_guess = frame.T_pred;
   const MotionPrior prior = PriorFor(frame, dt, motion_model_holds_);
   RegistrationResult reg = RegisterSource(frame, prior);
@@ -715,6 +729,7 @@ void Odometry::UpdateMotionModel(const Frame& frame, const RegistrationResult& r
   if (status != OdometryStatus::kTimeGap) {
     threshold_.UpdateModelDeviation(frame.T_pred.inverse() * T_new);
   }
+  velocity_frame_ = T_world_last_.linear();
   velocity_ = UsesMotionPrior(config_.registration.mode)
                   ? FilteredVelocity(frame.T_guess, T_new, reg, dt)
                   : LogSE3(T_world_last_.inverse() * T_new) / dt;
@@ -814,6 +829,10 @@ Odometry::GyroTracks Odometry::TrackGyro(double t_start, std::optional<GyroCover
   why = coverage;
   if (coverage == GyroCoverage::kCovered) tracks.scan = std::move(scan);
   return tracks;
+}
+
+Eigen::Vector3d Odometry::WorldVelocity(double dt) const {
+  return velocity_frame_ * ExpSE3(velocity_ * dt).translation() / dt;
 }
 
 Eigen::Isometry3d Odometry::Predict(const Vector6d& velocity, double dt, const Frame& frame) const {

@@ -97,7 +97,10 @@ class Odometry {
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity,
                                     const GyroTrack* gyro = nullptr) const;
   Eigen::Isometry3d DeskewWithGyro(ClassifiedScan& scan, const Vector6d& velocity,
-                                   const GyroTrack& gyro) const;
+                                   const GyroTrack& gyro,
+                                   const std::optional<Eigen::Vector3d>& v_start = {}) const;
+  // The constant-velocity model's translation per second in the world frame over dt.
+  Eigen::Vector3d WorldVelocity(double dt) const;
   // The pose `velocity` predicts after dt; its rotation the gyro's where the frame has one.
   Eigen::Isometry3d Predict(const Vector6d& velocity, double dt, const Frame& frame) const;
   // Prior(dt, holds) with the gyro's information on the rotation where the frame has one.
@@ -185,6 +188,8 @@ class Odometry {
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();  // mid-scan
   Eigen::Isometry3d last_start_pose_ = Eigen::Isometry3d::Identity();  // as last reported
   Vector6d velocity_ = Vector6d::Zero();
+  // The orientation of the frame velocity_ is expressed in (the pose it was measured from).
+  Eigen::Matrix3d velocity_frame_ = Eigen::Matrix3d::Identity();
   // The last registration landed within config_.motion_model_max_deviation of its prediction.
   bool motion_model_holds_ = false;
   bool last_scan_degenerate_ = false;  // selects the release ratio (hysteresis)
