@@ -3,10 +3,17 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include "core/geometry/scan.hpp"
 #include "core/geometry/se3.hpp"
+#include "core/inertial/gyro_bias_filter.hpp"
+#include "core/inertial/gyro_integration.hpp"
+#include "core/inertial/gyro_use_config.hpp"
+#include "core/inertial/imu_sample.hpp"
+#include "core/inertial/inertial_config.hpp"
 #include "core/map/persistence_filter.hpp"
 #include "core/map/voxel_hash_map.hpp"
 #include "core/odometry/frame_downsample.hpp"
@@ -45,6 +52,18 @@ class Odometry {
     return map_;
   }
   const Eigen::Isometry3d& last_pose() const { return T_world_last_; }
+
+  // Issue 55: use a gyroscope mounted at imu.T_sensor_imu. Without this call, or while no
+  // samples cover a scan, that scan is the LiDAR's alone, bit-identical to before.
+  void EnableImu(const ImuDescription& imu, const GyroUseConfig& config = {});
+  // One IMU sample, LiDAR clock, handed over before the scan it covers is registered (up to
+  // the scan's end). Rejected (false, counted) without EnableImu, when not after the previous
+  // sample or with a non-finite stamp; a NaN reading is kept and makes the scans it falls in
+  // fall back to the LiDAR alone.
+  bool AddImu(const ImuSample& sample);
+  std::size_t imu_samples_rejected() const { return imu_rejected_; }
+  // The gyro bias estimate (IMU frame, rad/s); empty without EnableImu.
+  std::optional<Eigen::Vector3d> gyro_bias() const;
   // Body-frame twist [v; w] per second of the constant-velocity model.
   const Vector6d& velocity() const { return velocity_; }
 
@@ -64,8 +83,32 @@ class Odometry {
     Eigen::Isometry3d T_guess = Eigen::Isometry3d::Identity();  // where registration started
     std::vector<std::uint8_t> moving;    // per point of scan; empty: nothing judged moving
     bool held_at_prediction = false;     // along a degenerate direction (HoldAliasedAxis)
+    // The gyro's rotation through the scan and from the previous scan's middle to this one's,
+    // both set or neither (not covered: the scan is the LiDAR's alone).
+    std::optional<GyroTrack> gyro_scan, gyro_interval;
   };
-  Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity) const;
+  // The gyro's tracks for a scan starting at t_start; `why` says whether they cover it.
+  struct GyroTracks {
+    std::optional<GyroTrack> scan, interval;
+  };
+  GyroTracks TrackGyro(double t_start, std::optional<GyroCoverage>& why) const;
+  GyroCalibration Calibration() const;
+  // With `gyro`: its rotation through the scan, the constant velocity's translation.
+  Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity,
+                                    const GyroTrack* gyro = nullptr) const;
+  Eigen::Isometry3d DeskewWithGyro(ClassifiedScan& scan, const Vector6d& velocity,
+                                   const GyroTrack& gyro,
+                                   const std::optional<Eigen::Vector3d>& v_start = {}) const;
+  // The constant-velocity model's translation per second in the world frame over dt.
+  Eigen::Vector3d WorldVelocity(double dt) const;
+  // The pose `velocity` predicts after dt; its rotation the gyro's where the frame has one.
+  Eigen::Isometry3d Predict(const Vector6d& velocity, double dt, const Frame& frame) const;
+  // Prior(dt, holds) with the gyro's information on the rotation where the frame has one.
+  MotionPrior PriorFor(const Frame& frame, double dt, bool holds);
+  Eigen::Matrix3d GyroRotationInformation(const Frame& frame) const;
+  // The bias filter learns from how the registered rotation departs from the gyro's.
+  void LearnGyroBias(const Frame& frame, const RegistrationResult& reg);
+  void DropOldImuSamples();
   SourcePoints SelectSource(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving);
   void DetectMoving(Frame& frame, double dt);
   double MidScanStamp(double t_start) const;
@@ -91,7 +134,7 @@ class Odometry {
   OdometryResult NewResult(const ClassifiedScan& scan);
   OdometryStatus Admit(const Scan& scan) const;
   double TimeStep(double t_start, OdometryStatus& status);
-  Frame Deskew(ClassifiedScan&& scan) const;
+  Frame Deskew(ClassifiedScan&& scan, GyroTracks gyro) const;
   RegistrationResult RegisterFrame(Frame& frame, double dt);
   RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior,
                                     double gate_widening = 1.0);
@@ -145,6 +188,8 @@ class Odometry {
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();  // mid-scan
   Eigen::Isometry3d last_start_pose_ = Eigen::Isometry3d::Identity();  // as last reported
   Vector6d velocity_ = Vector6d::Zero();
+  // The orientation of the frame velocity_ is expressed in (the pose it was measured from).
+  Eigen::Matrix3d velocity_frame_ = Eigen::Matrix3d::Identity();
   // The last registration landed within config_.motion_model_max_deviation of its prediction.
   bool motion_model_holds_ = false;
   bool last_scan_degenerate_ = false;  // selects the release ratio (hysteresis)
@@ -165,6 +210,13 @@ class Odometry {
     std::vector<std::uint8_t> moving;
   };
   std::optional<PendingMapUpdate> pending_map_update_;
+  // The gyroscope (EnableImu): its description, use, samples (LiDAR clock) and bias filter.
+  std::optional<ImuDescription> imu_;
+  GyroUseConfig gyro_config_;
+  std::vector<ImuSample> imu_samples_;
+  std::size_t imu_rejected_ = 0;
+  std::optional<GyroBiasFilter> gyro_bias_;
+  std::optional<GyroTrack> first_scan_gyro_;  // with first_scan_raw_
 };
 
 }  // namespace dammloam

@@ -3,11 +3,13 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/se3.hpp"
+#include "core/inertial/gyro_integration.hpp"
 #include "core/odometry/tracking_health.hpp"
 #include "core/preprocess/point_times.hpp"
 
@@ -107,6 +109,9 @@ struct OdometryResult {
   // empty). Such points were left out of registration and of the map.
   std::vector<std::uint8_t> moving;
   std::size_t map_points_moved_away = 0;  // removed from the map by this scan
+  // With an IMU (Odometry::EnableImu): whether its gyro covered this scan (kCovered: used) or
+  // why the scan fell back to the LiDAR alone; empty without an IMU.
+  std::optional<GyroCoverage> gyro;
 };
 
 }  // namespace dammloam

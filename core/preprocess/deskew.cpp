@@ -75,6 +75,12 @@ void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, doub
   });
 }
 
+void DeskewScanAlong(ClassifiedScan& scan,
+                     const std::function<Eigen::Isometry3d(double)>& T_out_point) {
+  if (!scan.scan.has_times()) return;
+  MoveByFiringTime(scan, [&](float time) { return RigidMotion{T_out_point(double{time})}; });
+}
+
 void TurnByAngularAcceleration(ClassifiedScan& scan, const Eigen::Vector3d& angular_acceleration,
                                double scan_period, double mean_time_sq) {
   if (!scan.scan.has_times()) return;

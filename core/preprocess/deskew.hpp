@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <functional>
 
 #include "core/preprocess/classified_scan.hpp"
 
@@ -14,6 +15,13 @@ namespace dammloam {
 // as are all scans when scan_period is not positive.
 void DeskewScan(ClassifiedScan& scan, const Eigen::Isometry3d& T_start_end, double scan_period,
                 const Eigen::Isometry3d& T_out_start = Eigen::Isometry3d::Identity());
+
+// Motion compensation with a motion measured per firing time (an IMU's rotation): the point
+// fired at time t (seconds since the scan start) moves to the output frame by T_out_point(t),
+// its normal by that rotation. T_out_point is called once per firing time, from several
+// threads at once. Scans without per-point times are left unchanged.
+void DeskewScanAlong(ClassifiedScan& scan,
+                     const std::function<Eigen::Isometry3d(double)>& T_out_point);
 
 // The second-order part of in-scan motion that a constant velocity leaves out: a point fired
 // tau = t - scan_period / 2 seconds off mid-scan is turned about the sensor origin by

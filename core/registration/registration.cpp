@@ -315,8 +315,12 @@ void AddMotionPrior(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_pred,
   J.topRightCorner<3, 3>() = -Hat(T.translation());
   Matrix6d information = Matrix6d::Zero();
   information.topLeftCorner<3, 3>() = prior.translation_information;
-  information.bottomRightCorner<3, 3>().diagonal().setConstant(
-      1.0 / (prior.rotation_sigma * prior.rotation_sigma));
+  if (prior.rotation_information.isZero(0.0)) {
+    information.bottomRightCorner<3, 3>().diagonal().setConstant(
+        1.0 / (prior.rotation_sigma * prior.rotation_sigma));
+  } else {
+    information.bottomRightCorner<3, 3>() = prior.rotation_information;
+  }
   const Matrix6d JtW = J.transpose() * information;
   H.noalias() += JtW * J;
   b.noalias() += JtW * e;

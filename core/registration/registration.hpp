@@ -60,6 +60,10 @@ struct MotionPrior {
   // Its own sigma about the sensor's spin axis (see InScanInformation); 0 holds it there, and
   // it is held there while a direction is weak.
   double scan_spin_axis_acceleration_sigma = 0.0;
+  // Full mode with a gyroscope: its information on the orientation (world frame, 1/rad^2), which then
+  // replaces rotation_sigma's isotropic one (rotation_sigma > 0 still selects the fused
+  // solve). Zero: rotation_sigma's, as without an IMU.
+  Eigen::Matrix3d rotation_information = Eigen::Matrix3d::Zero();
 };
 
 // Robust Gauss-Newton on SE(3) of sensor-frame `source` points against the map, starting at

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <filesystem>
 
 #include "io/bag/bag_reader.hpp"
@@ -22,8 +24,7 @@ void LogStream(const fs::path& file, const std::vector<Sample>& samples, const i
     spdlog::warn("{}: only {} usable {} samples", file.string(), samples.size(), what);
   } else {
     const double span = samples.back().t - samples.front().t;
-    spdlog::info("{}: read {} {} samples, {:.1f} Hz over {:.2f} s (t {:.3f} .. {:.3f}); the "
-                 "estimator does not use them yet (issue 55): poses are LiDAR-only",
+    spdlog::info("{}: read {} {} samples, {:.1f} Hz over {:.2f} s (t {:.3f} .. {:.3f})",
                  file.string(), samples.size(), what, static_cast<double>(samples.size() - 1) / span, span,
                  samples.front().t, samples.back().t);
   }
@@ -66,6 +67,44 @@ InertialInput ReadBagInertialInput(const RunnerOptions& o) {
 }
 
 }  // namespace
+
+ImuFeed::ImuFeed(const InertialInput& input, Odometry& odometry) : odometry_(odometry) {
+  if (!input.imu || input.imu->empty()) return;
+  samples_ = &*input.imu;
+  odometry_.EnableImu(input.imu_description);
+}
+
+void ImuFeed::Through(double t) {
+  if (!samples_) return;
+  constexpr double kAhead = 0.02;  // s: two periods of the OS1's 100 Hz
+  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kAhead) {
+    odometry_.AddImu((*samples_)[next_++]);
+  }
+}
+
+void ImuFeed::Count(const OdometryResult& result) {
+  ++scans_;
+  if (result.gyro) ++by_coverage_[static_cast<std::size_t>(*result.gyro)];
+}
+
+void ImuFeed::Log() const {
+  if (!samples_) {
+    spdlog::info("IMU: not used (none in the input, or --no-imu): poses are the LiDAR's alone");
+    return;
+  }
+  const std::size_t used = by_coverage_[static_cast<std::size_t>(GyroCoverage::kCovered)];
+  std::string why;
+  for (GyroCoverage c : {GyroCoverage::kNoSamples, GyroCoverage::kGap, GyroCoverage::kSaturated,
+                         GyroCoverage::kNonFinite}) {
+    const std::size_t n = by_coverage_[static_cast<std::size_t>(c)];
+    if (n > 0) why += fmt::format("{}{} {}", why.empty() ? "" : ", ", n, Name(c));
+  }
+  const Eigen::Vector3d bias = odometry_.gyro_bias().value_or(Eigen::Vector3d::Zero()) * 180.0 / M_PI;
+  spdlog::info("IMU: gyro used on {} of {} scans, {} fell back to the LiDAR alone{}{}{}; {} samples "
+               "rejected (out of order); gyro bias estimate {:.4f} {:.4f} {:.4f} deg/s",
+               used, scans_, scans_ - used, why.empty() ? "" : " (", why, why.empty() ? "" : ")",
+               odometry_.imu_samples_rejected(), bias.x(), bias.y(), bias.z());
+}
 
 InertialInput ReadInertialInput(const RunnerOptions& o) {
   if (io::IsBagPath(o.sequence)) return ReadBagInertialInput(o);

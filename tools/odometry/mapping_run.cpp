@@ -93,10 +93,12 @@ int RunMapping(const RunnerOptions& o) {
       o.backend_config.empty() ? backend::BackendParameters{}
                                : io::LoadBackendConfig(o.backend_config);
   const std::size_t n = ScansToRun(*source, o.max_scans);
-  // Read and checked, not used yet: the estimator's IMU / wheel prior will take them from here.
+  // The IMU's gyroscope drives the odometry's rotation (issue 55); the wheel odometry is read
+  // and checked, not used yet.
   const InertialInput inertial = ReadInertialInput(o);
 
   OdometryPipeline pipeline(config, source->model());
+  ImuFeed imu_feed(inertial, pipeline.odometry());
   // Without loop closure the back-end is only needed to build a map for --save-map; it then
   // keeps keyframes but verifies no loop candidate.
   std::unique_ptr<backend::LoopClosingBackend> backend;
@@ -124,7 +126,9 @@ int RunMapping(const RunnerOptions& o) {
   for (std::optional<Scan> scan; (o.max_scans == 0 || i < o.max_scans) && (scan = source->Next());
        ++i) {
     const double t_start = scan->t_start;
+    imu_feed.Through(t_start + source->model().scan_period);
     const OdometryResult result = pipeline.Process(std::move(*scan));
+    imu_feed.Count(result);
     odometry.push_back({t_start, result.T_world_sensor});
     scan_indices.push_back(result.scan_index);
     total_ms.push_back(result.timings.total_ms);
@@ -172,6 +176,7 @@ int RunMapping(const RunnerOptions& o) {
   if (o.quiet) return 0;
   spdlog::info("{} scans, {} not registered, median {:.1f} ms per scan -> {}", i, not_registered,
                Median(total_ms), o.out.string());
+  imu_feed.Log();
   if (o.loop_closure) {
     spdlog::info("loop closure: {} keyframes, {} loop candidates, {} accepted, {} pose-graph "
                  "solves", backend->NumKeyframes(), events.accepted + events.rejected,
