@@ -1,12 +1,11 @@
 #include "tools/inputs/ouster_bag_source.hpp"
 
-#include "drivers/ouster/cloud.hpp"
 #include "drivers/ouster/metadata.hpp"
-#include "drivers/ouster/packet_decoder.hpp"
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/byte_cursor.hpp"
 #include "io/bag/cdr_reader.hpp"
 #include "io/bag/ros1_bag.hpp"
+#include "tools/inputs/packet_scans.hpp"
 
 namespace dammloam::tools {
 namespace {
@@ -45,8 +44,7 @@ class OusterBagSource : public io::ScanSource {
       : path_(path),
         bag_(io::OpenBag(path)),
         meta_(ouster::LoadMetadata(metadata)),
-        decoder_(meta_),
-        cloud_(meta_),
+        scans_(meta_),
         model_(ouster::ToSensorModel(meta_)) {
     const io::BagTopic& t = PickPacketTopic(*bag_, topic, path);
     ros1_ = t.serialization_format == io::kRos1Serialization;
@@ -63,19 +61,14 @@ class OusterBagSource : public io::ScanSource {
 
   std::optional<Scan> Next() override {
     while (bag_->Next(message_)) {
-      auto frame = decoder_.Push(Payload());
-      if (!frame) continue;
-      Scan scan = cloud_.ToScan(*frame);
-      if (scan.empty()) continue;
-      ++scans_;
-      return scan;
+      if (auto scan = scans_.Push(Payload())) return scan;
     }
-    decoder_.Flush();
-    if (scans_ == 0) {
+    scans_.Flush();
+    if (scans_.scans() == 0) {
       throw io::IoError(path_.string() + ": no complete Ouster frame with a return (packets of " +
                         std::to_string(ouster::LayoutFor(meta_).packet) + " bytes expected; decoder: " +
-                        (decoder_.diagnostics().counters().empty() ? std::string("nothing")
-                                                                   : decoder_.diagnostics().Summary()) +
+                        (scans_.diagnostics().counters().empty() ? std::string("nothing")
+                                                                 : scans_.diagnostics().Summary()) +
                         ")");
     }
     return std::nullopt;
@@ -97,13 +90,11 @@ class OusterBagSource : public io::ScanSource {
   std::filesystem::path path_;
   std::unique_ptr<io::BagReader> bag_;
   ouster::Metadata meta_;
-  ouster::PacketDecoder decoder_;
-  ouster::CloudMaker cloud_;
+  OusterScans scans_;
   SensorModel model_;
   std::string describe_;
   bool ros1_ = false;
   io::BagMessage message_;
-  std::size_t scans_ = 0;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "drivers/velodyne/calibration.hpp"
 #include "drivers/velodyne/decoder.hpp"
 #include "io/io_error.hpp"
+#include "tools/inputs/packet_scans.hpp"
 
 namespace dammloam::tools {
 namespace {
@@ -39,8 +40,7 @@ class OusterPcapSource : public io::ScanSource {
       : file_(file),
         meta_(ouster::LoadMetadata(metadata)),
         reader_(file, drivers::PcapFilter{meta_.udp_port_lidar}),
-        decoder_(meta_),
-        cloud_(meta_),
+        scans_(meta_),
         model_(ouster::ToSensorModel(meta_)),
         describe_("Ouster " + (meta_.prod_line.empty() ? std::string("sensor") : meta_.prod_line) + " " +
                   meta_.lidar_mode + ", profile " + std::string(ouster::Name(meta_.profile)) +
@@ -55,20 +55,15 @@ class OusterPcapSource : public io::ScanSource {
 
   std::optional<Scan> Next() override {
     while (reader_.Next(datagram_)) {
-      auto frame = decoder_.Push(datagram_.payload);
-      if (!frame) continue;
-      Scan scan = cloud_.ToScan(*frame);
-      if (scan.empty()) continue;
-      ++scans_;
-      return scan;
+      if (auto scan = scans_.Push(datagram_.payload)) return scan;
     }
-    decoder_.Flush();
+    scans_.Flush();
     CheckReadErrors(file_, reader_.diagnostics());
-    if (scans_ == 0) {
+    if (scans_.scans() == 0) {
       throw io::IoError(file_.string() + ": no complete Ouster frame with a return (lidar packets of " +
                         std::to_string(ouster::LayoutFor(meta_).packet) + " bytes to UDP port " +
                         std::to_string(meta_.udp_port_lidar) + "; " +
-                        Held(reader_.diagnostics(), decoder_.diagnostics()) + ")");
+                        Held(reader_.diagnostics(), scans_.diagnostics()) + ")");
     }
     return std::nullopt;
   }
@@ -77,30 +72,18 @@ class OusterPcapSource : public io::ScanSource {
   fs::path file_;
   ouster::Metadata meta_;
   drivers::PcapReader reader_;
-  ouster::PacketDecoder decoder_;
-  ouster::CloudMaker cloud_;
+  OusterScans scans_;
   SensorModel model_;
   std::string describe_;
   drivers::UdpDatagram datagram_;
-  std::size_t scans_ = 0;
 };
-
-velodyne::DecoderConfig VelodyneConfig(const std::string& model) {
-  const auto parsed = velodyne::ParseModel(model);
-  if (!parsed) {
-    throw std::runtime_error("--velodyne-model '" + model + "': expected vlp16, vlp32c, hdl32e or vls128");
-  }
-  velodyne::DecoderConfig config;
-  config.model = *parsed;
-  return config;
-}
 
 class VelodynePcapSource : public io::ScanSource {
  public:
   VelodynePcapSource(const fs::path& file, const std::string& model, const fs::path& calibration)
       : file_(file),
         reader_(file),
-        decoder_(VelodyneConfig(model), velodyne::LoadCalibration(calibration)),
+        decoder_(VelodyneDecoderConfig(model), velodyne::LoadCalibration(calibration)),
         model_(decoder_.sensor_model()),
         describe_("Velodyne " + model + " data packets (1206 bytes, any port), calibration " +
                   calibration.string() + "; scans cut at azimuth 0, stamps from the packets") {}

@@ -8,6 +8,7 @@
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/cdr_reader.hpp"
 #include "io/bag/ros1_bag.hpp"
+#include "tools/inputs/packet_scans.hpp"
 
 namespace dammloam::tools {
 namespace {
@@ -31,22 +32,12 @@ std::string PickTopic(const io::BagReader& bag, const std::string& wanted,
                     " (topics: " + io::TopicList(bag.topics()) + ")");
 }
 
-velodyne::DecoderConfig Config(const std::string& model) {
-  const auto parsed = velodyne::ParseModel(model);
-  if (!parsed) {
-    throw std::runtime_error("--velodyne-model '" + model + "': expected vlp16, vlp32c, hdl32e or vls128");
-  }
-  velodyne::DecoderConfig config;
-  config.model = *parsed;
-  return config;
-}
-
 class VelodyneBagSource : public io::ScanSource {
  public:
   VelodyneBagSource(const std::filesystem::path& path, const std::string& topic,
                     const std::string& model, const std::filesystem::path& calibration)
       : bag_(io::OpenBag(path)),
-        decoder_(Config(model), velodyne::LoadCalibration(calibration)),
+        decoder_(VelodyneDecoderConfig(model), velodyne::LoadCalibration(calibration)),
         model_(decoder_.sensor_model()) {
     const std::string name = PickTopic(*bag_, topic, path);
     for (const io::BagTopic& t : bag_->topics()) {

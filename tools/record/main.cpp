@@ -136,9 +136,8 @@ int Run(const Options& o) {
   spdlog::info("recording '{}' on domain {} until {} poses or {} s without data",
                o.topics.odometry, o.domain, o.count == 0 ? "unlimited" : std::to_string(o.count),
                o.timeout);
-  while (!g_stop && (o.count == 0 || poses.size() < o.count) &&
-         Clock::now() - last_data < timeout) {
-    waitset.Wait(std::chrono::milliseconds(50));
+  // Everything waiting on the readers; poses beyond --count are not kept.
+  const auto take = [&] {
     odometry.TakeEach([&](const dammloam_msg_Odometry& m, const dds_sample_info_t&) {
       last_data = Clock::now();
       if (!seen.insert({m.header.stamp.sec, m.header.stamp.nanosec}).second) return;
@@ -167,6 +166,20 @@ int Run(const Options& o) {
           spdlog::warn("labelled cloud {}: {}", Stamp(m.header.stamp), error);
         }
       });
+    }
+  };
+  while (!g_stop && (o.count == 0 || poses.size() < o.count) &&
+         Clock::now() - last_data < timeout) {
+    waitset.Wait(std::chrono::milliseconds(50));
+    take();
+  }
+  // The labelled cloud and the loop events of the last pose are published just after it: wait
+  // a moment for them, so a --count run holds every cloud of its poses.
+  if (!g_stop && o.count != 0 && poses.size() >= o.count) {
+    const auto until = Clock::now() + std::chrono::milliseconds(300);
+    while (Clock::now() < until) {
+      waitset.Wait(std::chrono::milliseconds(50));
+      take();
     }
   }
   // Poses come in stamp order from one daemon; sort anyway so the TUM file is always valid.
