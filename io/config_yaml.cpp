@@ -130,6 +130,24 @@ void ReadMoving(Section s, OdometryConfig& c) {
   s.RejectUnknownKeys();
 }
 
+void ReadCompactObjects(Section s, CompactObjectsConfig& c) {
+  s.Get("enabled", c.enabled);
+  s.Get("cell", c.cell);
+  s.Get("max_range", c.max_range);
+  s.Get("max_extent", c.max_extent);
+  s.Get("max_lift", c.max_lift);
+  s.Get("max_height", c.max_height);
+  s.Get("min_height", c.min_height);
+  s.Get("facing_cos", c.facing_cos);
+  s.Get("body_depth", c.body_depth);
+  s.Get("body_margin", c.body_margin);
+  s.Get("min_ground_points", c.min_ground_points);
+  s.Get("ground_reach", c.ground_reach);
+  s.Get("weak_axis_ratio", c.weak_axis_ratio);
+  s.Get("witness_share", c.witness_share);
+  s.RejectUnknownKeys();
+}
+
 void ReadHealth(Section s, TrackingHealthConfig& h) {
   s.Get("reference_scans", h.reference_scans);
   s.Get("degraded_pair_share", h.degraded_pair_share);
@@ -156,6 +174,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadRegistration(s.Child("registration"), config.registration);
   ReadMotionPrior(s.Child("motion_prior"), config);
   ReadMoving(s.Child("moving"), config);
+  ReadCompactObjects(s.Child("compact_objects"), config.compact_objects);
   ReadHealth(s.Child("health"), config.health);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
@@ -301,6 +320,25 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(mv.map_after >= 0.0, "moving.map_after", "must be >= 0");
   Require(mv.map_after_max_gap > 0.0, "moving.map_after_max_gap", "must be > 0");
   Require(c.remove_moved_away_every >= 1, "moving.remove_moved_away_every", "must be >= 1");
+  const CompactObjectsConfig& co = c.compact_objects;
+  Require(co.cell > 0.0, "compact_objects.cell", "must be > 0");
+  Require(co.max_range > 0.0 && co.max_range <= 200.0, "compact_objects.max_range",
+          "must be in (0, 200] m (the grid is max_range / cell cells across)");
+  Require(co.max_range / co.cell <= 2000.0, "compact_objects.cell",
+          "too fine for max_range (more than 2000 cells each way)");
+  Require(co.max_extent > 0.0, "compact_objects.max_extent", "must be > 0");
+  Require(co.max_lift >= 0.0, "compact_objects.max_lift", "must be >= 0");
+  Require(co.max_height > 0.0, "compact_objects.max_height", "must be > 0");
+  Require(co.min_height >= 0.0 && co.min_height < co.max_height, "compact_objects.min_height",
+          "must be in [0, max_height)");
+  Require(co.facing_cos >= 0.0 && co.facing_cos <= 1.0, "compact_objects.facing_cos", "must be in [0, 1]");
+  Require(co.body_depth >= 0.0, "compact_objects.body_depth", "must be >= 0");
+  Require(co.body_margin >= 0.0, "compact_objects.body_margin", "must be >= 0");
+  Require(co.min_ground_points >= 1, "compact_objects.min_ground_points", "must be >= 1");
+  Require(co.ground_reach > 0.0, "compact_objects.ground_reach", "must be > 0");
+  Require(co.weak_axis_ratio >= 0.0 && co.weak_axis_ratio <= 1.0, "compact_objects.weak_axis_ratio",
+          "must be in [0, 1]");
+  Require(co.witness_share >= 0.0, "compact_objects.witness_share", "must be >= 0");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
   Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");

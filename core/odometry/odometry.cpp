@@ -103,6 +103,7 @@ Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
       threshold_(config.registration.initial_threshold,
                  config.registration.min_motion_threshold, config.map.max_distance),
       moving_(config.moving, sensor),
+      compact_objects_(config.compact_objects),
       persistence_(PersistenceConfig(AutoVoxelSize(config.map, 0.0), config.moving)),
       translation_filter_(config.motion_prior),
       health_(config.health) {}
@@ -209,17 +210,35 @@ Eigen::Isometry3d Odometry::DeskewWithGyro(ClassifiedScan& scan, const Vector6d&
   return T_mid_start;
 }
 
-Odometry::SourcePoints Odometry::SelectSource(const ClassifiedScan& scan,
-                                              const std::vector<std::uint8_t>& moving) {
+void Odometry::SelectSource(Frame& frame) {
+  const ClassifiedScan& scan = frame.scan;
   std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
-  WithoutMoving(idx, moving);
+  WithoutMoving(idx, frame.moving);
+  frame.set_aside = frame.moving;
+  frame.objects_set_aside = 0;
+  if (config_.compact_objects.enabled && initialised_) {
+    // Objects facing the scan's weakest direction: where they make it look observed, the rest
+    // of the scan's weakest direction is this one.
+    const std::vector<std::uint8_t>& objects =
+        compact_objects_.Find(scan.scan.points, scan.labels, scan.normals,
+                              WeakestDirection(scan.normals, idx), T_world_last_.linear());
+    if (!objects.empty() &&
+        ObjectsWitnessTheWeakAxis(scan.normals, idx, objects, config_.compact_objects)) {
+      if (frame.set_aside.empty()) frame.set_aside.assign(objects.size(), 0);
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        frame.set_aside[i] |= objects[i];
+        frame.objects_set_aside += objects[i];
+      }
+      WithoutMoving(idx, objects);
+    }
+  }
   SourcePoints source{Gather(scan.scan.points, idx), Gather(scan.labels, idx), {}};
   if (config_.deskew && scan.scan.has_times()) {
     source.times = Gather(scan.scan.times, idx);
     const float half = static_cast<float>(0.5 * sensor_.scan_period);
     for (float& t : source.times) t -= half;
   }
-  return source;
+  frame.source = std::move(source);
 }
 
 bool Odometry::Consecutive(double dt) const { return dt <= 1.5 * sensor_.scan_period; }
@@ -306,7 +325,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   Frame frame = Deskew(std::move(scan), std::move(gyro));
   result.timings.deskew_ms = watch.LapMs();
   if (initialised_) DetectMoving(frame, dt);
-  frame.source = SelectSource(frame.scan, frame.moving);
+  SelectSource(frame);
   result.timings.downsample_ms = watch.LapMs();
   Eigen::Isometry3d T_new = Eigen::Isometry3d::Identity();
   if (!initialised_) {
@@ -347,7 +366,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       UpdateMotionModel(frame, reg, dt, result.status);
     }
   }
-  InsertIntoMap(frame.scan, frame.moving, T_new, defer_map);
+  InsertIntoMap(frame.scan, frame.set_aside, T_new, defer_map);
   if (config_.moving.enabled) {
     moving_.AddView(frame.scan.scan.points, frame.scan.labels, T_new,
                     MidScanStamp(frame.scan.scan.t_start));
@@ -538,7 +557,7 @@ RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const Registratio
   frame.raw.reset();
   frame.T_mid_start =
       DeskewToMidScan(frame.scan, measured, frame.gyro_scan ? &*frame.gyro_scan : nullptr);
-  frame.source = SelectSource(frame.scan, frame.moving);
+  SelectSource(frame);
   frame.T_guess = Predict(measured, dt, frame);
   translation_filter_.Reset();  // the velocity it predicted with was wrong
   return RegisterSource(frame, PriorFor(frame, dt, false));
@@ -697,6 +716,7 @@ void Odometry::Restart(Frame& frame) {
   last_scan_degenerate_ = false;
   consecutive_lost_ = 0;
   frame.moving.clear();
+  frame.set_aside.clear();
 }
 
 void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
@@ -771,6 +791,7 @@ OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,
   LabelMoving(frame.moving, result.labels, result.class_counts);
   result.normals = std::move(frame.scan.normals);
   result.moving = std::move(frame.moving);
+  result.set_aside_points = frame.objects_set_aside;
   return result;
 }
 

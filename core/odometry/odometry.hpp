@@ -16,6 +16,7 @@
 #include "core/inertial/inertial_config.hpp"
 #include "core/map/persistence_filter.hpp"
 #include "core/map/voxel_hash_map.hpp"
+#include "core/odometry/compact_objects.hpp"
 #include "core/odometry/frame_downsample.hpp"
 #include "core/odometry/moving_points.hpp"
 #include "core/odometry/odometry_config.hpp"
@@ -82,6 +83,10 @@ class Odometry {
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();   // constant-velocity prediction
     Eigen::Isometry3d T_guess = Eigen::Isometry3d::Identity();  // where registration started
     std::vector<std::uint8_t> moving;    // per point of scan; empty: nothing judged moving
+    // Per point of scan, 1 where it is kept out of registration and map: moving, or on a compact
+    // object that would hold the weak axis (CompactObjects); empty: none.
+    std::vector<std::uint8_t> set_aside;
+    std::size_t objects_set_aside = 0;   // points of compact objects among them
     bool held_at_prediction = false;     // along a degenerate direction (HoldAliasedAxis)
     // The gyro's rotation through the scan and from the previous scan's middle to this one's,
     // both set or neither (not covered: the scan is the LiDAR's alone).
@@ -109,7 +114,9 @@ class Odometry {
   // The bias filter learns from how the registered rotation departs from the gyro's.
   void LearnGyroBias(const Frame& frame, const RegistrationResult& reg);
   void DropOldImuSamples();
-  SourcePoints SelectSource(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving);
+  // The registration source: the downsampled scan without what is set aside (frame.set_aside,
+  // decided here).
+  void SelectSource(Frame& frame);
   void DetectMoving(Frame& frame, double dt);
   double MidScanStamp(double t_start) const;
   std::size_t RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor);
@@ -180,6 +187,7 @@ class Odometry {
   ShapeCache map_shapes_;  // the shapes registration judged on map_, kept while map_ keeps them
   AdaptiveThreshold threshold_;
   MovingPoints moving_;
+  CompactObjects compact_objects_;
   PersistenceFilter persistence_;
   std::uint64_t scans_since_removal_ = 0;
   bool initialised_ = false;

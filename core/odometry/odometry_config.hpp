@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/map/map_config.hpp"
+#include "core/odometry/compact_objects.hpp"
 #include "core/odometry/moving_points.hpp"
 #include "core/odometry/tracking_health.hpp"
 #include "core/odometry/translation_filter.hpp"
@@ -23,6 +24,9 @@ struct OdometryConfig {
   // of the map, and map points that have since moved away are removed.
   MovingPointsConfig moving;
   int remove_moved_away_every = 5;  // scans between two passes of that removal
+  // Small things standing on the ground (people, carts) never hold a direction the rest of the
+  // scan does not observe: where they would, they stay out of registration and map.
+  CompactObjectsConfig compact_objects;
   double max_angular_acceleration = 5.0;  // rad/s^2: orientation prior sigma = this * dt^2
   // Between sparse scans (not consecutive at the sensor's rate), along a degenerate direction
   // a registration that lands farther from the prediction than this many of the prior's

@@ -109,6 +109,9 @@ struct OdometryResult {
   // empty). Such points were left out of registration and of the map.
   std::vector<std::uint8_t> moving;
   std::size_t map_points_moved_away = 0;  // removed from the map by this scan
+  // Points kept out of registration and map because they lie on compact objects that would
+  // have been the main witnesses of the scan's weakest direction (CompactObjects).
+  std::size_t set_aside_points = 0;
   // With an IMU (Odometry::EnableImu): whether its gyro covered this scan (kCovered: used) or
   // why the scan fell back to the LiDAR alone; empty without an IMU.
   std::optional<GyroCoverage> gyro;

@@ -10,6 +10,7 @@
 #include "io/bag/scan_source.hpp"
 #include "io/tum.hpp"
 #include "tests/bag/bag_fixture.hpp"
+#include "tests/bag/simulated_sequence.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/text_file.hpp"
 #include "tools/simulate/simulator.hpp"
@@ -18,7 +19,6 @@ namespace dammloam {
 namespace {
 
 constexpr int kScans = 10;
-constexpr int kFirstScan = 25;  // at cruise speed, after the simulator's ramp-up
 
 std::string Binary() { return DAMMLOAM_BIN_DIR "/dammloam-odometry"; }
 
@@ -26,21 +26,7 @@ class BagOdometry : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!std::filesystem::exists(Binary())) GTEST_SKIP() << Binary() << " not built";
-    sim::SimOptions options;
-    options.num_scans = kFirstScan + kScans;
-    sim::SensorSpec sensor = sim::Vlp16();
-    sensor.columns = 900;
-    const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
-    std::vector<Scan> scans;
-    for (int i = 0; i < kScans; ++i) {
-      Scan scan = simulator.SimulateScan(kFirstScan + i);
-      // A whole nanosecond, as a recorded stamp is.
-      scan.t_start = StampSeconds(SecondsToStamp(scan.t_start));
-      scans.push_back(std::move(scan));
-    }
-    test::WriteSequence(tmp_ / "seq", scans,
-                        io::SequenceMeta{"vlp-16-900", simulator.sensor_model(),
-                                         io::PointLayout::kXYZITR});
+    test::WriteSimulatedOutdoorSequence(tmp_ / "seq", kScans);
   }
   // Runs the odometry; returns its output (stdout and stderr).
   std::string Run(const std::string& input, const std::string& name, const std::string& extra) {

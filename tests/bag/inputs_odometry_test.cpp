@@ -14,9 +14,9 @@
 #include "io/sequence_io.hpp"
 #include "io/tum.hpp"
 #include "tests/bag/inputs_fixture.hpp"
+#include "tests/bag/simulated_sequence.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/text_file.hpp"
-#include "tools/simulate/simulator.hpp"
 
 namespace dammloam {
 namespace {
@@ -68,20 +68,8 @@ TEST(Ros1Bag, OdometryPosesFromRosbagsEqualPosesFromTheSequenceBitForBit) {
   if (!fs::exists(binary)) GTEST_SKIP() << binary << " not built";
   if (const std::string why = RosbagMissing(); !why.empty()) GTEST_SKIP() << why;
   test::TempDir tmp;
-  constexpr int kScans = 10, kFirstScan = 25;  // at cruise speed, after the simulator's ramp-up
-  sim::SimOptions options;
-  options.num_scans = kFirstScan + kScans;
-  sim::SensorSpec sensor = sim::Vlp16();
-  sensor.columns = 900;
-  const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
-  std::vector<Scan> scans;
-  for (int i = 0; i < kScans; ++i) {
-    Scan scan = simulator.SimulateScan(kFirstScan + i);
-    scan.t_start = StampSeconds(SecondsToStamp(scan.t_start));  // a whole nanosecond
-    scans.push_back(std::move(scan));
-  }
-  test::WriteSequence(tmp / "seq", scans,
-                      io::SequenceMeta{"vlp-16-900", simulator.sensor_model(), io::PointLayout::kXYZITR});
+  constexpr int kScans = 10;
+  test::WriteSimulatedOutdoorSequence(tmp / "seq", kScans);
   auto run = [&](const fs::path& input, const std::string& name, const std::string& extra) {
     const auto r = test::RunCommand(binary + " " + input.string() + " --quiet --out " + (tmp / (name + ".tum")).string() +
                                     " " + extra + " 2>&1");
@@ -209,20 +197,8 @@ TEST(CloudFolder, Hdl32ePairOfPcdFilesMatchesTheGicpRelativePose) {
 TEST(CloudFolder, PlyFilesGiveThePosesOfTheirSequenceBitForBit) {
   if (!fs::exists(Binary())) GTEST_SKIP() << Binary() << " not built";
   test::TempDir tmp;
-  constexpr int kScans = 8, kFirstScan = 25;
-  sim::SimOptions options;
-  options.num_scans = kFirstScan + kScans;
-  sim::SensorSpec sensor = sim::Vlp16();
-  sensor.columns = 900;
-  const sim::Simulator simulator(sim::SceneKind::Outdoor, sensor, options);
-  std::vector<Scan> scans;
-  for (int i = 0; i < kScans; ++i) {
-    Scan scan = simulator.SimulateScan(kFirstScan + i);
-    scan.t_start = StampSeconds(SecondsToStamp(scan.t_start));
-    scans.push_back(std::move(scan));
-  }
-  test::WriteSequence(tmp / "seq", scans,
-                      io::SequenceMeta{"vlp-16-900", simulator.sensor_model(), io::PointLayout::kXYZITR});
+  constexpr int kScans = 8;
+  test::WriteSimulatedOutdoorSequence(tmp / "seq", kScans);
   const io::SequenceReader reader = io::SequenceReader::Open(tmp / "seq");
   std::istringstream times(test::ReadText(tmp / "seq" / "times.txt"));
   fs::create_directories(tmp / "ply");

@@ -1,0 +1,154 @@
+// Compact objects: small things standing on the ground are found in ray-cast scenes, and only
+// where they would be the main witness of a direction the rest of the scan observes weakly
+// (the axis of a featureless corridor) are they set aside.
+#include <gtest/gtest.h>
+
+#include "core/odometry/compact_objects.hpp"
+#include "core/preprocess/downsample.hpp"
+#include "core/preprocess/feature_extractor.hpp"
+#include "tests/core/lidar_raycast.hpp"
+
+namespace dammloam {
+namespace {
+
+using test::AlignedBox;
+using test::CastScan;
+using test::Scene;
+using test::SyntheticLidar;
+
+constexpr double kFloor = -1.4;  // the sensor is held 1.4 m above the floor
+const Eigen::Vector3d kAxis = Eigen::Vector3d::UnitX();  // the corridor's
+
+// A corridor 2.4 m wide and 2.8 m high along x, no end in sight (infinite planes: floor 20,
+// ceiling 21, walls 22 and 23).
+Scene Corridor() {
+  Scene scene;
+  scene.planes = {{0, 0, 1, -kFloor}, {0, 0, 1, -1.4}, {0, 1, 0, 1.2}, {0, 1, 0, -1.2}};
+  return scene;
+}
+
+// A person 0.45 m wide, 0.3 m deep, 1.75 m tall, standing on the floor at (x, y).
+AlignedBox Person(double x, double y) {
+  return {{x - 0.15, y - 0.225, kFloor}, {x + 0.15, y + 0.225, kFloor + 1.75}};
+}
+
+struct Extracted {
+  ClassifiedScan scan;
+  std::vector<int> surfaces;  // per kept point
+};
+
+// The scan as the pipeline sees it: cast, then labelled and given normals by the feature stage.
+Extracted Observe(const Scene& scene, double max_range = 40.0) {
+  const SyntheticLidar lidar;
+  const Scan cast = CastScan(lidar, scene, Eigen::Isometry3d::Identity(), nullptr, max_range);
+  const FeatureExtractor extractor(PreprocessConfig{}, lidar.Model());
+  Extracted out{extractor.Extract(cast, Eigen::Matrix3d::Identity()), {}};
+  for (float surface : out.scan.scan.intensities) out.surfaces.push_back(static_cast<int>(surface));
+  return out;
+}
+
+// The registration source, as the odometry downsamples it.
+std::vector<std::size_t> Source(const ClassifiedScan& scan) {
+  ClassAwareDownsampler downsampler(DownsampleConfig{});
+  return downsampler.Select(scan.scan.points, scan.labels);
+}
+
+struct Share {
+  int on = 0, marked = 0;
+};
+
+Share Marked(const Extracted& e, const std::vector<std::uint8_t>& mask, int surface) {
+  Share s;
+  for (std::size_t i = 0; i < e.surfaces.size(); ++i) {
+    if (e.surfaces[i] != surface) continue;
+    ++s.on;
+    s.marked += mask[i];
+  }
+  return s;
+}
+
+// Walking 0.175 m from the wall: grouped with the wall they would be part of a long structure;
+// only what faces the axis is grouped (the wall does not), and the body around it is taken.
+TEST(CompactObjects, APersonBesideTheWallIsCompactAndTheCorridorIsNot) {
+  Scene scene = Corridor();
+  scene.solids.push_back(Person(2.5, 0.8));
+  const Extracted e = Observe(scene);
+  CompactObjects objects({});
+  const std::vector<std::uint8_t>& mask =
+      objects.Find(e.scan.scan.points, e.scan.labels, e.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  ASSERT_EQ(mask.size(), e.scan.scan.points.size()) << "the ground height was not found";
+  // Grouped by what faces the axis, then the whole body: front, sides and shoulders.
+  const Share person = Marked(e, mask, 10);
+  ASSERT_GT(person.on, 200);
+  EXPECT_GE(person.marked, 0.95 * person.on);
+  for (int surface : {20, 21}) EXPECT_EQ(Marked(e, mask, surface).marked, 0) << surface;
+  // At the edges of the person's shadow a few wall normals mix both surfaces, face the axis
+  // and join the person; the body then reaches the wall there. Nothing of the walls farther
+  // than 2 m along the corridor from the person is taken.
+  for (int wall : {22, 23}) {
+    int far_marked = 0, wall_points = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+      if (e.surfaces[i] != wall) continue;
+      ++wall_points;
+      far_marked += mask[i] && std::abs(e.scan.scan.points[i].x() - 2.5) > 2.0;
+    }
+    ASSERT_GT(wall_points, 1000);
+    EXPECT_EQ(far_marked, 0) << "wall " << wall;
+  }
+}
+
+TEST(CompactObjects, PillarsAndLampsUnderTheCeilingAreNotCompact) {
+  Scene scene = Corridor();
+  scene.solids.push_back({{3.0, -0.2, kFloor}, {3.4, 0.2, 1.4}});    // a pillar, floor to ceiling
+  scene.solids.push_back({{-3.2, -0.3, 1.1}, {-2.8, 0.3, 1.4}});     // a lamp under the ceiling
+  const Extracted e = Observe(scene);
+  CompactObjects objects({});
+  const std::vector<std::uint8_t>& mask =
+      objects.Find(e.scan.scan.points, e.scan.labels, e.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  ASSERT_FALSE(mask.empty());
+  const Share pillar = Marked(e, mask, 10), lamp = Marked(e, mask, 11);
+  ASSERT_GT(pillar.on, 100);
+  ASSERT_GT(lamp.on, 20);
+  EXPECT_EQ(pillar.marked, 0);
+  EXPECT_EQ(lamp.marked, 0);
+}
+
+TEST(CompactObjects, WithoutGroundNothingIsJudged) {
+  Scene scene = Corridor();
+  scene.solids.push_back(Person(2.5, 0.5));
+  Extracted e = Observe(scene);
+  std::vector<PointClass> walls(e.scan.labels.size(), PointClass::Wall);
+  CompactObjects objects({});
+  EXPECT_TRUE(objects.Find(e.scan.scan.points, walls, e.scan.normals, kAxis, Eigen::Matrix3d::Identity()).empty());
+}
+
+TEST(CompactObjects, APersonIsSetAsideOnlyWhereTheyAloneObserveTheCorridorAxis) {
+  // No end in range: the person's front and back are all that faces the axis.
+  Scene open = Corridor();
+  open.solids.push_back(Person(2.5, 0.5));
+  const Extracted e = Observe(open);
+  CompactObjects objects({});
+  const std::vector<std::uint8_t> mask =
+      objects.Find(e.scan.scan.points, e.scan.labels, e.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  EXPECT_TRUE(ObjectsWitnessTheWeakAxis(e.scan.normals, Source(e.scan), mask, {}));
+
+  // In a room 8 x 6 m the walls observe every direction: the person stays in.
+  Scene room;
+  room.has_room = true;
+  room.room = {{-4.0, -3.0, kFloor}, {4.0, 3.0, 1.4}};
+  room.solids.push_back(Person(2.5, 0.5));
+  const Extracted r = Observe(room);
+  const std::vector<std::uint8_t> room_mask =
+      objects.Find(r.scan.scan.points, r.scan.labels, r.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  ASSERT_GT(Marked(r, room_mask, 10).marked, 200);
+  EXPECT_FALSE(ObjectsWitnessTheWeakAxis(r.scan.normals, Source(r.scan), room_mask, {}));
+
+  // Nobody there: nothing to set aside, however weak the axis.
+  const Extracted empty = Observe(Corridor());
+  const std::vector<std::uint8_t> none =
+      objects.Find(empty.scan.scan.points, empty.scan.labels, empty.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  EXPECT_FALSE(ObjectsWitnessTheWeakAxis(empty.scan.normals, Source(empty.scan), none, {}));
+}
+
+}  // namespace
+}  // namespace dammloam
