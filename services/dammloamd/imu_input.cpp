@@ -80,10 +80,13 @@ void ImuInput::FeedThrough(double t_start, Odometry& odometry, const std::atomic
                                            std::chrono::duration<double>(config_.max_wait));
   waited_out_ = false;
   // A sample at or past the horizon says every earlier one has come (one writer sends in stamp
-  // order). Without a matched writer nothing is coming: no wait, the LiDAR alone.
+  // order). No wait without a matched writer (nothing is coming), nor while the stream is more
+  // than a scan behind the scans (stalled, or on another clock: its samples are dropped), so
+  // that a broken IMU does not cost every scan max_wait.
   while (true) {
     Take();
     if ((last_t_ && *last_t_ >= horizon) || stop || !WriterMatched()) break;
+    if (last_t_ ? *last_t_ < t_start - scan_period_ : logged_.count("clock_offset") > 0) break;
     const auto left = deadline - Clock::now();
     if (left <= Clock::duration::zero()) {
       waited_out_ = true;

@@ -104,8 +104,8 @@ Driven Drive(std::uint32_t domain, bool ros2, const sim::Simulator& simulator, i
   }
   const auto counted = [&] {
     return !client.statuses.empty() &&
-           client.statuses.back().scans_with_imu + client.statuses.back().scans_without_imu >=
-               static_cast<std::uint64_t>(scans);
+           client.statuses.back().processed >= static_cast<std::uint64_t>(scans) &&
+           client.statuses.back().imu_samples >= sent.size();
   };
   EXPECT_TRUE(client.WaitUntil(counted, milliseconds(5000)));
   daemon.Stop();
@@ -215,6 +215,29 @@ TEST_F(DaemonImu, Ros2ImuGivesThePosesOfTheNativeImuTopic) {
               1e-9)
         << "scan " << i;
   }
+}
+
+// An IMU on another clock (its stamps 100 s ahead, no time offset configured): every sample is
+// dropped as clock_offset, the gyro is never enabled, and every scan is the LiDAR's alone.
+TEST_F(DaemonImu, AnImuOnAnotherClockIsDroppedAndTheScansAreTheLidarsAlone) {
+  constexpr int kScans = 5;
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kScans, {});
+  std::vector<Sent> sent;
+  for (ImuSample s : *streams.imu) {
+    s.t += 100.0;
+    sent.push_back({s, true});  // never past a horizon of the LiDAR's clock: all go out first
+  }
+  const Driven run = Drive(165, false, simulator, kScans, sent, 0.0);
+  ASSERT_EQ(run.poses.size(), static_cast<std::size_t>(kScans));
+  for (const ReceivedPose& p : run.poses) {
+    EXPECT_TRUE(p.registered) << p.status;
+    EXPECT_EQ(p.tracking, "tracking");
+  }
+  EXPECT_EQ(run.status.imu_samples, sent.size());
+  EXPECT_EQ(run.status.imu_samples_dropped, sent.size());
+  EXPECT_EQ(run.status.imu_by_reason.at("sample:clock_offset"), sent.size());
+  EXPECT_EQ(run.status.scans_with_imu + run.status.scans_without_imu, 0u);
 }
 
 }  // namespace
