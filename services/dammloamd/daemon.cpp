@@ -141,7 +141,18 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
         [this](const std::string& message) { StageFailed(Stage::kBackend, message); }, fault_);
   }
   localization_ = std::make_unique<MapLocalization>(backend_config.localizer);
-  if (config.imu.enabled) imu_ = std::make_unique<ImuInput>(participant_, config, stats_);
+  if (config.imu.enabled) {
+    // Without its IMU the daemon still tracks with the LiDAR: a topic the middleware refuses
+    // (DDS Security permissions from before the IMU input, say) is an error in Status, not a
+    // daemon that does not start.
+    try {
+      imu_ = std::make_unique<ImuInput>(participant_, config, stats_);
+    } catch (const dds::DdsError& e) {
+      const std::string message = std::string("IMU input off (the LiDAR alone): ") + e.what();
+      spdlog::error("{}", message);
+      stats_.Error(message);
+    }
+  }
   commands_ = std::make_unique<CommandStage>(
       participant_, config,
       std::map<std::string, CommandHandler>{
