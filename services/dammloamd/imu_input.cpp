@@ -81,12 +81,13 @@ void ImuInput::FeedThrough(double t_start, Odometry& odometry, const std::atomic
   waited_out_ = false;
   // A sample at or past the horizon says every earlier one has come (one writer sends in stamp
   // order). No wait without a matched writer (nothing is coming), nor while the stream is more
-  // than a scan behind the scans (stalled, or on another clock: its samples are dropped), so
-  // that a broken IMU does not cost every scan max_wait.
+  // than a scan behind the scans (stalled, or on another clock: its samples are dropped), nor,
+  // after the first scan, while no usable sample has come at all (a writer that sends nothing),
+  // so that a broken IMU does not cost every scan max_wait.
   while (true) {
     Take();
     if ((last_t_ && *last_t_ >= horizon) || stop || !WriterMatched()) break;
-    if (last_t_ ? *last_t_ < t_start - scan_period_ : logged_.count("clock_offset") > 0) break;
+    if (last_t_ ? *last_t_ < t_start - scan_period_ : !first_scan_) break;
     const auto left = deadline - Clock::now();
     if (left <= Clock::duration::zero()) {
       waited_out_ = true;
