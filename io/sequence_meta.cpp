@@ -122,4 +122,12 @@ void WriteMeta(const std::filesystem::path& meta_json, const SequenceMeta& meta)
   if (!out) FailIn(meta_json, "cannot write");
 }
 
+ImuDescription ImuDescriptionOf(const SequenceMeta& meta) {
+  ImuDescription imu;
+  if (meta.T_sensor_imu) imu.T_sensor_imu = *meta.T_sensor_imu;
+  if (meta.imu_noise) imu.noise = *meta.imu_noise;
+  imu.time_offset = meta.imu_time_offset;
+  return imu;
+}
+
 }  // namespace dammloam::io

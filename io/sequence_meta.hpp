@@ -33,6 +33,11 @@ struct SequenceMeta {
   std::optional<Eigen::Isometry3d> T_sensor_base = std::nullopt;
 };
 
+// The IMU as meta.json describes it, each absent key at ImuDescription's default (the Ouster
+// OS1's extrinsic, the ICM-20948's noise, no time offset): what dammloam-odometry uses with a
+// sequence's imu.csv and dammloamd with --sensor-meta.
+ImuDescription ImuDescriptionOf(const SequenceMeta& meta);
+
 // What is assumed about a KITTI folder that carries no meta.json: an HDL-64E-like sensor.
 SequenceMeta KittiMeta();
 

@@ -141,6 +141,18 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
         [this](const std::string& message) { StageFailed(Stage::kBackend, message); }, fault_);
   }
   localization_ = std::make_unique<MapLocalization>(backend_config.localizer);
+  if (config.imu.enabled) {
+    // Without its IMU the daemon still tracks with the LiDAR: a topic the middleware refuses
+    // (DDS Security permissions from before the IMU input, say) is an error in Status, not a
+    // daemon that does not start.
+    try {
+      imu_ = std::make_unique<ImuInput>(participant_, config, stats_);
+    } catch (const dds::DdsError& e) {
+      const std::string message = std::string("IMU input off (the LiDAR alone): ") + e.what();
+      spdlog::error("{}", message);
+      stats_.Error(message);
+    }
+  }
   commands_ = std::make_unique<CommandStage>(
       participant_, config,
       std::map<std::string, CommandHandler>{
@@ -161,6 +173,7 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
     if (ros2_->tf_writer) middleware_.Watch(*ros2_->tf_writer);
   }
   if (loop_closure_) loop_closure_->WatchEndpoints(middleware_);
+  if (imu_) imu_->Watch(middleware_);
   commands_->WatchEndpoints(middleware_);
 }
 
@@ -313,8 +326,10 @@ void Daemon::RegistrationLoop() {
     std::optional<FeatureScan> item = featured_.Pop(kWakeUp, drop);
     if (!item) continue;
     try {
+      FeedImu(item->scan.scan.t_start);
       // The map update waits until the pose is on its way: it is not on the latency path.
       OdometryResult result = odometry_.RegisterDeferringMap(std::move(item->scan));
+      if (imu_) imu_->Count(result);
       {
         // Before the result leaves: in lock-step the next scan is sent only after this pose
         // arrives, so its features see exactly this prediction.
@@ -328,6 +343,17 @@ void Daemon::RegistrationLoop() {
       spdlog::error("registration stage, scan seq {}: {}", item->meta.seq, e.what());
       stats_.Rejected("internal", std::string("registration stage: ") + e.what());
     }
+  }
+}
+
+// The IMU samples that cover the scan, before it is registered (issue 55). A failure here costs
+// the scan its gyro, never the scan.
+void Daemon::FeedImu(double t_start) {
+  if (!imu_) return;
+  try {
+    imu_->FeedThrough(t_start, odometry_, stop_);
+  } catch (const std::exception& e) {
+    StageFailed(Stage::kReceive, std::string("IMU input: ") + e.what());
   }
 }
 
@@ -555,6 +581,12 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.scans_degraded = s.degraded;
   msg.scans_lost = s.lost;
   msg.scans_without_point_times = s.without_point_times;
+  std::vector<dammloam_msg_ReasonCount> imu = ReasonCounts(s.imu_by_reason);
+  msg.imu_samples = s.imu_samples;
+  msg.imu_samples_dropped = s.imu_samples_dropped;
+  msg.scans_with_imu = s.scans_with_imu;
+  msg.scans_without_imu = s.scans_without_imu;
+  ViewAsSequence(imu, msg.imu_by_reason);
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

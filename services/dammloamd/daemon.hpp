@@ -21,6 +21,7 @@
 #include "services/dammloamd/command_stage.hpp"
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dammloamd/daemon_stats.hpp"
+#include "services/dammloamd/imu_input.hpp"
 #include "services/dammloamd/stage_queue.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/middleware_watch.hpp"
@@ -79,6 +80,7 @@ class Daemon {
   void ReceiveLoop();
   void FeatureLoop();
   void RegistrationLoop();
+  void FeedImu(double t_start);
   void PublishLoop();
 
   void ReceiveGuarded(const std::function<void()>& handle);
@@ -150,6 +152,7 @@ class Daemon {
   std::unique_ptr<LoopClosureStage> loop_closure_;   // null: no back-end, no map to save
   std::unique_ptr<MapLocalization> localization_;    // never null
   std::unique_ptr<CommandStage> commands_;
+  std::unique_ptr<ImuInput> imu_;                    // null: dammloamd.imu.enabled is false
   // Every reader and writer above; polled by the publish thread (ReportMiddlewareDrops).
   dds::MiddlewareWatch middleware_;
   std::atomic<bool> stop_{false};

@@ -5,11 +5,16 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cmath>
+#include <optional>
+#include <utility>
+#include <vector>
 #include <set>
 #include <stdexcept>
 
 #include "io/backend_config_yaml.hpp"
 #include "io/config_yaml.hpp"
+#include "io/ouster_imu.hpp"
 
 namespace dammloam::daemon {
 namespace {
@@ -62,7 +67,7 @@ void ReadSensor(const YAML::Node& node, DaemonConfig& c) {
 void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   const std::string path = "dammloamd.topics";
   RejectUnknownKeys(node, path, {"points", "odometry", "labelled_cloud", "loop_closure", "status",
-                                 "command", "command_reply"});
+                                 "command", "command_reply", "imu"});
   Read(node, "points", path, t.points);
   Read(node, "odometry", path, t.odometry);
   Read(node, "labelled_cloud", path, t.labelled_cloud);
@@ -70,17 +75,19 @@ void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   Read(node, "status", path, t.status);
   Read(node, "command", path, t.command);
   Read(node, "command_reply", path, t.command_reply);
+  Read(node, "imu", path, t.imu);
 }
 
 void ReadRos2(const YAML::Node& node, Ros2Config& r) {
   const std::string path = "dammloamd.ros2";
   RejectUnknownKeys(node, path, {"enabled", "points_topic", "odometry_topic",
-                                 "labelled_cloud_topic", "publish_tf", "map_frame", "odom_frame",
-                                 "sensor_frame", "deskew"});
+                                 "labelled_cloud_topic", "imu_topic", "publish_tf", "map_frame",
+                                 "odom_frame", "sensor_frame", "deskew"});
   Read(node, "enabled", path, r.enabled);
   Read(node, "points_topic", path, r.points_topic);
   Read(node, "odometry_topic", path, r.odometry_topic);
   Read(node, "labelled_cloud_topic", path, r.labelled_cloud_topic);
+  Read(node, "imu_topic", path, r.imu_topic);
   Read(node, "publish_tf", path, r.publish_tf);
   Read(node, "map_frame", path, r.map_frame);
   Read(node, "odom_frame", path, r.odom_frame);
@@ -105,6 +112,98 @@ void ReadCommands(const YAML::Node& node, CommandsConfig& c) {
   c.map_root = map_root;
   Read(node, "token", path, c.token);
   Read(node, "allowed_participants", path, c.allowed_participants);
+}
+
+// A number, or an error naming the key.
+double ReadNumber(const YAML::Node& node, const std::string& key, const std::string& path) {
+  try {
+    return node[key].as<double>();
+  } catch (const YAML::Exception&) {
+    Fail(path + "." + key, "must be a number");
+  }
+}
+
+// {translation: [x, y, z], quaternion_xyzw: [x, y, z, w]}, as meta.json's "T_sensor_imu":
+// p_sensor = R p_imu + translation, metres.
+Eigen::Isometry3d ReadTransform(const YAML::Node& node, const std::string& path) {
+  RejectUnknownKeys(node, path, {"translation", "quaternion_xyzw"});
+  if (!node["translation"] || !node["quaternion_xyzw"]) {
+    Fail(path, "needs translation: [x, y, z] and quaternion_xyzw: [x, y, z, w]");
+  }
+  std::vector<double> t, q;
+  Read(node, "translation", path, t);
+  Read(node, "quaternion_xyzw", path, q);
+  if (t.size() != 3) Fail(path + ".translation", "must have 3 values (metres)");
+  if (q.size() != 4) Fail(path + ".quaternion_xyzw", "must have 4 values (x, y, z, w)");
+  for (double v : t) {
+    if (!std::isfinite(v)) Fail(path + ".translation", "must be finite");
+  }
+  // An Ouster metadata's imu_to_sensor_transform is in millimetres: 6.253 there is 0.006253 here.
+  if (Eigen::Vector3d(t[0], t[1], t[2]).norm() > 5.0) {
+    Fail(path + ".translation", "is more than 5 m from the LiDAR: metres, not millimetres?");
+  }
+  const Eigen::Quaterniond quaternion(q[3], q[0], q[1], q[2]);
+  if (!std::isfinite(quaternion.norm()) || std::abs(quaternion.norm() - 1.0) > 1e-3) {
+    Fail(path + ".quaternion_xyzw", "must be a unit quaternion (norm 1 within 1e-3)");
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = quaternion.normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+  return T;
+}
+
+void ReadImu(const YAML::Node& node, ImuConfig& c) {
+  const std::string path = "dammloamd.imu";
+  RejectUnknownKeys(node, path, {"enabled", "extrinsic", "time_offset", "gyro_noise_density",
+                                 "accel_noise_density", "gyro_bias_random_walk",
+                                 "accel_bias_random_walk", "max_wait", "max_clock_offset",
+                                 "ouster_metadata"});
+  if (!node) return;
+  Read(node, "enabled", path, c.enabled);
+  if (node["extrinsic"]) {
+    c.description.T_sensor_imu = ReadTransform(node["extrinsic"], path + ".extrinsic");
+    c.extrinsic_set = true;
+  }
+  if (node["time_offset"]) {
+    c.description.time_offset = ReadNumber(node, "time_offset", path);
+    c.time_offset_set = true;
+  }
+  ImuNoise& n = c.description.noise;
+  for (auto [key, value] : {std::pair{"gyro_noise_density", &n.gyro_noise_density},
+                            std::pair{"accel_noise_density", &n.accel_noise_density},
+                            std::pair{"gyro_bias_random_walk", &n.gyro_bias_random_walk},
+                            std::pair{"accel_bias_random_walk", &n.accel_bias_random_walk}}) {
+    if (!node[key]) continue;
+    *value = ReadNumber(node, key, path);
+    c.noise_set = true;
+  }
+  std::string ouster_metadata;
+  Read(node, "ouster_metadata", path, ouster_metadata);
+  if (!ouster_metadata.empty()) c.ouster_metadata = ouster_metadata;
+  if (node["max_wait"]) c.max_wait = ReadNumber(node, "max_wait", path);
+  if (node["max_clock_offset"]) c.max_clock_offset = ReadNumber(node, "max_clock_offset", path);
+}
+
+void ValidateImu(const ImuConfig& c) {
+  const std::string path = "dammloamd.imu";
+  const ImuNoise& n = c.description.noise;
+  for (auto [key, value] : {std::pair{"gyro_noise_density", n.gyro_noise_density},
+                            std::pair{"accel_noise_density", n.accel_noise_density},
+                            std::pair{"gyro_bias_random_walk", n.gyro_bias_random_walk},
+                            std::pair{"accel_bias_random_walk", n.accel_bias_random_walk}}) {
+    if (!(std::isfinite(value) && value > 0.0)) {
+      Fail(path + "." + key, "must be a positive number (continuous-time density, SI units)");
+    }
+  }
+  if (!(c.max_wait >= 0.0 && c.max_wait <= 1.0)) Fail(path + ".max_wait", "must be in [0, 1] s");
+  if (!(c.max_clock_offset > 0.0 && c.max_clock_offset <= 10.0)) {
+    Fail(path + ".max_clock_offset", "must be in (0, 10] s");
+  }
+  if (!(std::isfinite(c.description.time_offset) &&
+        std::abs(c.description.time_offset) < c.max_clock_offset)) {
+    Fail(path + ".time_offset", "must be finite and smaller in magnitude than max_clock_offset (" +
+                                    std::to_string(c.max_clock_offset) + " s)");
+  }
 }
 
 // ROS 2 names: [A-Za-z0-9_/], no empty tokens, no trailing slash (what rcl accepts, minus ~ and
@@ -139,6 +238,7 @@ void ValidateRos2(const Ros2Config& r) {
   ValidateRos2Name("dammloamd.ros2.points_topic", r.points_topic);
   ValidateRos2Name("dammloamd.ros2.odometry_topic", r.odometry_topic);
   ValidateRos2Name("dammloamd.ros2.labelled_cloud_topic", r.labelled_cloud_topic);
+  ValidateRos2Name("dammloamd.ros2.imu_topic", r.imu_topic);
   ValidateFrame("dammloamd.ros2.map_frame", r.map_frame, false);
   ValidateFrame("dammloamd.ros2.odom_frame", r.odom_frame, false);
   ValidateFrame("dammloamd.ros2.sensor_frame", r.sensor_frame, true);
@@ -155,7 +255,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   const std::string path = "dammloamd";
   RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
                                  "queues", "publish", "loop_closure", "save_map_on_shutdown",
-                                 "ros2", "commands"});
+                                 "ros2", "commands", "imu"});
   if (!node) return c;
   Read(node, "domain", path, c.domain);
   Read(node, "node_name", path, c.node_name);
@@ -168,6 +268,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   ReadTopics(node["topics"], c.topics);
   ReadRos2(node["ros2"], c.ros2);
   ReadCommands(node["commands"], c.commands);
+  ReadImu(node["imu"], c.imu);
 
   const YAML::Node input = node["input"];
   RejectUnknownKeys(input, "dammloamd.input",
@@ -284,12 +385,44 @@ void ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(c.status_period > 0.0)) Fail("dammloamd.publish.status_period", "must be positive");
   for (const std::string* topic : {&c.topics.points, &c.topics.odometry, &c.topics.labelled_cloud,
                                    &c.topics.loop_closure, &c.topics.status, &c.topics.command,
-                                   &c.topics.command_reply}) {
+                                   &c.topics.command_reply, &c.topics.imu}) {
     if (topic->empty()) Fail("dammloamd.topics", "names must not be empty");
   }
   ValidateSaveOnShutdown(c.save_map_on_shutdown);
   ValidateRos2(c.ros2);
   ValidateCommands(c.commands);
+  ValidateImu(c.imu);
+}
+
+void ApplySensorMeta(const io::SequenceMeta& meta, DaemonConfig& c) {
+  c.sensor = meta.model;
+  c.sensor_name = meta.sensor;
+  // The same description dammloam-odometry takes from a sequence's meta.json.
+  const ImuDescription from_meta = io::ImuDescriptionOf(meta);
+  ImuDescription& imu = c.imu.description;
+  if (!c.imu.extrinsic_set) imu.T_sensor_imu = from_meta.T_sensor_imu;
+  if (!c.imu.noise_set) imu.noise = from_meta.noise;
+  if (!c.imu.time_offset_set) imu.time_offset = from_meta.time_offset;
+}
+
+void ApplyOusterMetadata(DaemonConfig& c) {
+  if (c.imu.ouster_metadata.empty()) return;
+  const std::string key = "dammloamd.imu.ouster_metadata";
+  const std::optional<Eigen::Isometry3d> T = io::ReadOusterImuToSensor(c.imu.ouster_metadata);
+  if (!T) Fail(key, "(" + c.imu.ouster_metadata.string() + ") has no imu_to_sensor_transform");
+  if (!c.imu.extrinsic_set) {
+    c.imu.description.T_sensor_imu = *T;
+    return;
+  }
+  // Both given: one of them is a mistake unless they agree.
+  const Eigen::Isometry3d& given = c.imu.description.T_sensor_imu;
+  const double mm = (given.translation() - T->translation()).norm() * 1000.0;
+  const double deg = Eigen::AngleAxisd(given.linear().transpose() * T->linear()).angle() * 180.0 / M_PI;
+  if (mm > 1.0 || deg > 0.1) {
+    Fail("dammloamd.imu.extrinsic", "differs from " + c.imu.ouster_metadata.string() +
+                                        "'s imu_to_sensor_transform by " + std::to_string(mm) +
+                                        " mm, " + std::to_string(deg) + " deg: give one of them");
+  }
 }
 
 }  // namespace dammloam::daemon

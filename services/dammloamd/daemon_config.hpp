@@ -10,7 +10,9 @@
 
 #include "core/backend/backend_config.hpp"
 #include "core/geometry/scan.hpp"
+#include "core/inertial/inertial_config.hpp"
 #include "core/odometry/odometry_config.hpp"
+#include "io/sequence_meta.hpp"
 #include "services/dds/point_cloud.hpp"
 #include "services/dds/topics.hpp"
 
@@ -23,6 +25,7 @@ struct Ros2Config {
   std::string points_topic = "/points";                          // sensor_msgs/PointCloud2 in
   std::string odometry_topic = "/dammloam/odometry";             // nav_msgs/Odometry out
   std::string labelled_cloud_topic = "/dammloam/labelled_cloud"; // sensor_msgs/PointCloud2 out
+  std::string imu_topic = "/imu";                                // sensor_msgs/Imu in (imu.enabled)
   bool publish_tf = true;                                        // /tf: map->odom, odom->sensor
   std::string map_frame = "map";
   std::string odom_frame = "odom";
@@ -47,6 +50,29 @@ struct CommandsConfig {
   std::vector<std::string> allowed_participants;
 };
 
+// The `imu` section (issue 55): the IMU's gyroscope drives the odometry's rotation (deskew,
+// prediction, rotation prior), as in dammloam-odometry with a sequence's imu.csv. Values the
+// YAML leaves out come from --sensor-meta's meta.json ("imu_extrinsic", "imu"), else they are
+// the Ouster OS1's (ImuDescription's defaults). The extrinsic: imu.extrinsic, else the
+// imu_to_sensor_transform of imu.ouster_metadata (--ouster-metadata), else meta.json's.
+struct ImuConfig {
+  // Subscribe to the Imu topic (and, with ros2, to ros2.imu_topic). The gyro is used from the
+  // first sample on; without samples every scan is the LiDAR's alone, bit-identical to off.
+  bool enabled = true;
+  ImuDescription description;  // T_sensor_imu, noise densities, time offset
+  // Which parts of `description` the YAML gave (the rest may come from --sensor-meta).
+  bool extrinsic_set = false, noise_set = false, time_offset_set = false;
+  // An Ouster sensor's metadata JSON: its imu_to_sensor_transform is the extrinsic unless
+  // imu.extrinsic is given (ApplyOusterMetadata).
+  std::filesystem::path ouster_metadata;
+  // Wall time a scan waits at most for the samples that cover it (up to its end + 20 ms), s;
+  // only while an IMU writer is matched. A live IMU sends them within a sample period.
+  double max_wait = 0.05;
+  // A sample stamped further than this from the scan being registered is on another clock (or
+  // its time offset is wrong): dropped and counted (clock_offset), s.
+  double max_clock_offset = 1.0;
+};
+
 struct DaemonConfig {
   std::uint32_t domain = 0;
   std::string node_name = "dammloamd";
@@ -68,6 +94,7 @@ struct DaemonConfig {
   std::filesystem::path save_map_on_shutdown;
   Ros2Config ros2;
   CommandsConfig commands;
+  ImuConfig imu;
 };
 
 struct FullConfig {
@@ -79,6 +106,14 @@ struct FullConfig {
 // Reads the YAML file (every section optional; unknown keys and wrong types are errors naming the
 // key). Throws std::runtime_error naming the file and key. An empty path gives the defaults.
 FullConfig LoadConfig(const std::filesystem::path& file);
+
+// --sensor-meta: the sensor model, and the IMU's extrinsic, noise and time offset where the
+// YAML did not give them.
+void ApplySensorMeta(const io::SequenceMeta& meta, DaemonConfig& config);
+// imu.ouster_metadata: its imu_to_sensor_transform as the extrinsic unless imu.extrinsic was
+// given (then it must agree within 1 mm and 0.1 deg). Call after ApplySensorMeta: the metadata
+// wins over meta.json. Throws naming the file when it is unreadable or has no such key.
+void ApplyOusterMetadata(DaemonConfig& config);
 
 // Throws std::runtime_error naming the field when a value is out of range.
 void ValidateDaemonConfig(const DaemonConfig& config);

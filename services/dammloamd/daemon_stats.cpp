@@ -46,6 +46,27 @@ void DaemonStats::Processed(double latency_ms, std::string_view tracking,
   if (latencies_ms_.size() > kLatencyWindow) latencies_ms_.pop_front();
 }
 
+void DaemonStats::ImuSamples(std::uint64_t taken) {
+  std::lock_guard lock(mutex_);
+  counters_.imu_samples += taken;
+}
+
+void DaemonStats::ImuSampleFault(const std::string& reason, bool dropped) {
+  std::lock_guard lock(mutex_);
+  counters_.imu_samples_dropped += dropped;
+  ++counters_.imu_by_reason["sample:" + reason];
+}
+
+void DaemonStats::ImuScan(std::string_view why) {
+  std::lock_guard lock(mutex_);
+  if (why.empty()) {
+    ++counters_.scans_with_imu;
+    return;
+  }
+  ++counters_.scans_without_imu;
+  ++counters_.imu_by_reason["scan:" + std::string(why)];
+}
+
 void DaemonStats::Dropped(const std::string& where) {
   std::lock_guard lock(mutex_);
   ++counters_.dropped;

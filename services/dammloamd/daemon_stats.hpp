@@ -33,6 +33,11 @@ struct StatusSnapshot {
   // Tracking health (Odometry.tracking) and scans whose point times could not drive a deskew.
   std::string tracking = "tracking";  // the newest scan's
   std::uint64_t degraded = 0, lost = 0, without_point_times = 0;
+  // The IMU input (DaemonStatus.imu_*): samples taken and dropped, scans with and without the
+  // gyro, per "sample:<fault>" and "scan:<why>".
+  std::uint64_t imu_samples = 0, imu_samples_dropped = 0, scans_with_imu = 0,
+                scans_without_imu = 0;
+  std::map<std::string, std::uint64_t> imu_by_reason;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -54,6 +59,12 @@ class DaemonStats {
   void StageFailed(Stage stage, const std::string& message);
   // Something DDS dropped (an error too, last_error = event.Describe()).
   void MiddlewareDropped(const dds::MiddlewareEvent& event);
+  // IMU samples taken from the topics.
+  void ImuSamples(std::uint64_t taken);
+  // A sample fault (reason without the "sample:" prefix); `dropped`: not handed to the estimator.
+  void ImuSampleFault(const std::string& reason, bool dropped);
+  // A scan registered with the gyro (why empty) or without it (why: the reason).
+  void ImuScan(std::string_view why = {});
   StatusSnapshot Snapshot() const;
 
  private:

@@ -1,6 +1,6 @@
-// dammloamd: subscribes to PointCloud and Command, publishes Odometry, LabelledCloud, Status,
-// CommandReply and LoopClosure over Cyclone DDS; with --ros2 also
-// ROS 2 PointCloud2 in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
+// dammloamd: subscribes to PointCloud, Imu and Command, publishes Odometry, LabelledCloud,
+// Status, CommandReply and LoopClosure over Cyclone DDS; with --ros2 also ROS 2 PointCloud2 and
+// Imu in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -23,10 +23,12 @@ struct Options {
   std::string backend_config_file;
   std::optional<std::uint32_t> domain;
   std::string sensor_meta;
+  std::string ouster_metadata;
   std::string points_topic;
   std::optional<int> labelled_cloud_every;
   bool no_loop_closure = false;
   bool ros2 = false;
+  bool no_imu = false;
   bool allow_default_network = false;
   bool check_config = false;
   std::string log_level = "info";
@@ -48,11 +50,10 @@ dammloam::daemon::FullConfig BuildConfig(const Options& o) {
   if (o.labelled_cloud_every) d.labelled_cloud_every = *o.labelled_cloud_every;
   if (o.no_loop_closure) d.loop_closure = false;
   if (o.ros2) d.ros2.enabled = true;
-  if (!d.sensor_meta.empty()) {
-    const io::SequenceMeta meta = io::ReadMeta(d.sensor_meta);
-    d.sensor = meta.model;
-    d.sensor_name = meta.sensor;
-  }
+  if (o.no_imu) d.imu.enabled = false;
+  if (!d.sensor_meta.empty()) daemon::ApplySensorMeta(io::ReadMeta(d.sensor_meta), d);
+  if (!o.ouster_metadata.empty()) d.imu.ouster_metadata = o.ouster_metadata;
+  daemon::ApplyOusterMetadata(d);
   daemon::ValidateDaemonConfig(d);
   return config;
 }
@@ -74,10 +75,16 @@ int main(int argc, char** argv) {
   app.add_option("--domain", o.domain, "DDS domain id (overrides dammloamd.domain)");
   app.add_option("--sensor-meta", o.sensor_meta, "sensor from a sequence meta.json")
       ->check(CLI::ExistingFile);
+  app.add_option("--ouster-metadata", o.ouster_metadata,
+                 "Ouster metadata JSON: its imu_to_sensor_transform is the IMU extrinsic "
+                 "(dammloamd.imu.ouster_metadata)")
+      ->check(CLI::ExistingFile);
   app.add_option("--points-topic", o.points_topic, "input PointCloud topic");
   app.add_option("--labelled-cloud-every", o.labelled_cloud_every,
                  "publish every Nth LabelledCloud (0 = never)");
   app.add_flag("--no-loop-closure", o.no_loop_closure, "do not run the loop-closure back-end");
+  app.add_flag("--no-imu", o.no_imu,
+               "take no IMU samples (dammloamd.imu.enabled: false): the LiDAR alone");
   app.add_flag("--ros2", o.ros2,
                "also speak ROS 2 (dammloamd.ros2.enabled): PointCloud2 in, Odometry, labelled "
                "PointCloud2 and /tf out; the ros2 section's values or its defaults");
@@ -136,6 +143,18 @@ int main(int argc, char** argv) {
     }
     spdlog::info("map saved on shutdown: {}",
                  d.save_map_on_shutdown.empty() ? "no" : d.save_map_on_shutdown.string());
+    if (d.imu.enabled) {
+      const Eigen::Vector3d t = d.imu.description.T_sensor_imu.translation();
+      const Eigen::Quaterniond q(d.imu.description.T_sensor_imu.linear());
+      spdlog::info("IMU on {}{}: T_sensor_imu t [{:.6f} {:.6f} {:.6f}] m q_xyzw [{:.6f} {:.6f} {:.6f} "
+                   "{:.6f}], time offset {:.6f} s, gyro noise {:.3g} rad/s/sqrt(Hz); the gyro is "
+                   "used once samples arrive", d.topics.imu,
+                   d.ros2.enabled ? " and " + d.ros2.imu_topic : std::string(), t.x(), t.y(), t.z(),
+                   q.x(), q.y(), q.z(), q.w(), d.imu.description.time_offset,
+                   d.imu.description.noise.gyro_noise_density);
+    } else {
+      spdlog::info("IMU off (--no-imu or dammloamd.imu.enabled: false): the LiDAR alone");
+    }
     if (d.ros2.enabled) {
       spdlog::info("ROS 2: {} -> {}, {}{}; frames {} -> {} -> {}; deskew {}", d.ros2.points_topic,
                    d.ros2.odometry_topic, d.ros2.labelled_cloud_topic,

@@ -38,6 +38,13 @@ ImuSample FromImuMessage(const dammloam_msg_Imu& message) {
           FromVector(message.linear_acceleration)};
 }
 
+ImuSample FromRos2Imu(const sensor_msgs_msg_dds__Imu_& message) {
+  const auto& w = message.angular_velocity;
+  const auto& a = message.linear_acceleration;
+  return {ToSeconds(dammloam_msg_Time{message.header.stamp.sec, message.header.stamp.nanosec}),
+          {w.x, w.y, w.z}, {a.x, a.y, a.z}};
+}
+
 dammloam_msg_WheelOdometry ToWheelMessage(const WheelSample& sample, double speed_sigma,
                                           double yaw_rate_sigma, const std::string& frame_id,
                                           std::uint64_t seq) {

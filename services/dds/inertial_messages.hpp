@@ -1,11 +1,13 @@
 #pragma once
-// ImuSample / WheelSample (core/inertial) <-> the Imu and WheelOdometry samples (issue 55).
+// ImuSample / WheelSample (core/inertial) <-> the Imu and WheelOdometry samples, and ROS 2
+// sensor_msgs/Imu -> ImuSample (issue 55).
 #include <string>
 
 #include "core/inertial/imu_sample.hpp"
 #include "core/inertial/inertial_config.hpp"
 #include "core/inertial/wheel_sample.hpp"
 #include "dammloam.h"
+#include "sensor_msgs.h"
 
 namespace dammloam::dds {
 
@@ -14,6 +16,8 @@ namespace dammloam::dds {
 dammloam_msg_Imu ToImuMessage(const ImuSample& sample, const ImuNoise& noise, double rate_hz,
                               const std::string& frame_id, std::uint64_t seq);
 ImuSample FromImuMessage(const dammloam_msg_Imu& message);
+// ROS 2 sensor_msgs/Imu (its orientation, if any, is not read).
+ImuSample FromRos2Imu(const sensor_msgs_msg_dds__Imu_& message);
 
 // Variances: `speed_sigma`^2 on vx, `yaw_rate_sigma`^2 on wz, 1e6 on the unmeasured components.
 dammloam_msg_WheelOdometry ToWheelMessage(const WheelSample& sample, double speed_sigma,

@@ -56,6 +56,8 @@ struct ReceivedStatus {
   std::map<std::string, std::uint64_t> middleware_by_reason;
   std::string tracking;
   std::uint64_t degraded = 0, lost = 0, without_point_times = 0;
+  std::uint64_t imu_samples = 0, imu_samples_dropped = 0, scans_with_imu = 0, scans_without_imu = 0;
+  std::map<std::string, std::uint64_t> imu_by_reason;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
@@ -63,7 +65,11 @@ inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
                    m.scans_dropped, m.scans_rejected, m.commands_refused, {}, m.receive_errors,
                    m.publish_errors, m.backend_errors, m.loop_closure, m.samples_lost,
                    m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {},
-                   m.tracking, m.scans_degraded, m.scans_lost, m.scans_without_point_times};
+                   m.tracking, m.scans_degraded, m.scans_lost, m.scans_without_point_times,
+                   m.imu_samples, m.imu_samples_dropped, m.scans_with_imu, m.scans_without_imu, {}};
+  for (std::uint32_t i = 0; i < m.imu_by_reason._length; ++i) {
+    s.imu_by_reason[m.imu_by_reason._buffer[i].reason] = m.imu_by_reason._buffer[i].count;
+  }
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;
   }

@@ -6,6 +6,7 @@
 
 #include "services/dammloamd/command_gate.hpp"
 #include "services/dammloamd/daemon_config.hpp"
+#include "tests/support/data_dir.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/system/sim_sequence.hpp"
 
@@ -211,6 +212,100 @@ TEST(DaemonConfig, Ros2SectionDefaultsParseAndMistakesNameTheKey) {
   for (const auto& [yaml, expected] : mistakes) {
     const std::string error = LoadError("dammloamd:\n  ros2:\n" + yaml);
     EXPECT_NE(error.find(expected), std::string::npos) << yaml << " gave: " << error;
+  }
+}
+
+// The imu section (issue 55): on by default with the OS1's values; what the YAML leaves out comes
+// from --sensor-meta's meta.json, what it gives wins; mistakes name the key.
+TEST(DaemonConfig, ImuSectionTakesSensorMetaWhereTheYamlIsSilentAndMistakesNameTheKey) {
+  const FullConfig shipped =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
+  EXPECT_TRUE(shipped.daemon.imu.enabled);
+  EXPECT_EQ(shipped.daemon.topics.imu, "dammloam_imu");
+  EXPECT_EQ(shipped.daemon.ros2.imu_topic, "/imu");
+  EXPECT_TRUE(shipped.daemon.imu.description.T_sensor_imu.isApprox(OusterOs1ImuToSensor()));
+
+  io::SequenceMeta meta;
+  meta.sensor = "os0-128";
+  meta.model.rings = 128;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.01, 0.02, 0.03);
+  meta.T_sensor_imu = T;
+  ImuNoise noise;
+  noise.gyro_noise_density = 1e-3;
+  meta.imu_noise = noise;
+  meta.imu_time_offset = 0.004;
+  DaemonConfig from_meta = shipped.daemon;
+  ApplySensorMeta(meta, from_meta);
+  EXPECT_EQ(from_meta.sensor.rings, 128);
+  EXPECT_TRUE(from_meta.imu.description.T_sensor_imu.isApprox(T));
+  EXPECT_EQ(from_meta.imu.description.noise.gyro_noise_density, 1e-3);
+  EXPECT_EQ(from_meta.imu.description.time_offset, 0.004);
+
+  const test::TempDir dir("config-imu");
+  const auto file = dir / "imu.yaml";
+  std::ofstream(file) << "dammloamd:\n  topics:\n    imu: my_imu\n  imu:\n    time_offset: -0.002\n"
+                         "    extrinsic:\n      translation: [0.1, 0, 0]\n"
+                         "      quaternion_xyzw: [0, 0, 0.7071068, 0.7071068]\n";
+  DaemonConfig given = LoadConfig(file).daemon;
+  ApplySensorMeta(meta, given);
+  EXPECT_NO_THROW(ValidateDaemonConfig(given));
+  EXPECT_EQ(given.topics.imu, "my_imu");
+  EXPECT_EQ(given.imu.description.time_offset, -0.002);
+  EXPECT_NEAR(given.imu.description.T_sensor_imu.translation().x(), 0.1, 1e-12);
+  EXPECT_NEAR(given.imu.description.T_sensor_imu.linear()(1, 0), 1.0, 1e-6);  // 90 deg about z
+  EXPECT_EQ(given.imu.description.noise.gyro_noise_density, 1e-3);  // not given: meta.json's
+
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    enable: true\n").find("'dammloamd.imu.enable' is not a known key"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    time_offset: soon\n").find("'dammloamd.imu.time_offset' must be a number"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    extrinsic:\n      translation: [6.253, -11.775, 7.645]\n"
+                      "      quaternion_xyzw: [0, 0, 0, 1]\n")
+                .find("metres, not millimetres?"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    extrinsic:\n      translation: [0, 0, 0]\n"
+                      "      quaternion_xyzw: [0, 0, 0, 2]\n")
+                .find("'dammloamd.imu.extrinsic.quaternion_xyzw' must be a unit quaternion"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    gyro_noise_density: 0\n").find("'dammloamd.imu.gyro_noise_density' must be a positive number"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    time_offset: 2.0\n").find("'dammloamd.imu.time_offset' must be finite and smaller"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  imu:\n    max_wait: 5\n").find("'dammloamd.imu.max_wait' must be in [0, 1] s"),
+            std::string::npos);
+  EXPECT_NE(LoadError("dammloamd:\n  ros2:\n    imu_topic: imu//raw\n").find("dammloamd.ros2.imu_topic"),
+            std::string::npos);
+}
+
+// --ouster-metadata: the imu_to_sensor_transform of real Ouster metadata (top level in firmware
+// 2.2, under imu_intrinsics in later files), millimetres to metres.
+TEST(DaemonConfig, OusterMetadataGivesTheImuExtrinsicInMetres) {
+  const auto dir = test::DataDir() / "ouster_sdk_pcaps";
+  const auto flat = dir / "OS-0-32-U1_v2.2.0_1024x10.json";
+  const auto nested = dir / "OS-1-128_767798045_1024x10_20230712_120049.json";
+  DAMMLOAM_REQUIRE_DATA(flat);
+  DAMMLOAM_REQUIRE_DATA(nested);
+  DaemonConfig c;
+  c.imu.ouster_metadata = flat;
+  ApplyOusterMetadata(c);
+  EXPECT_TRUE(c.imu.description.T_sensor_imu.translation().isApprox(
+      Eigen::Vector3d(0.006253, -0.011775, 0.007645), 1e-12));
+  EXPECT_TRUE(c.imu.description.T_sensor_imu.linear().isIdentity());
+  c = DaemonConfig{};
+  c.imu.ouster_metadata = nested;
+  ApplyOusterMetadata(c);
+  EXPECT_TRUE(c.imu.description.T_sensor_imu.translation().isApprox(
+      Eigen::Vector3d(-0.002441, -0.009725, 0.007533), 1e-12));
+  // An extrinsic in the YAML as well that disagrees: one of them is wrong.
+  c = DaemonConfig{};
+  c.imu.ouster_metadata = nested;
+  c.imu.extrinsic_set = true;  // the OS1's default, 9 mm away
+  try {
+    ApplyOusterMetadata(c);
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("give one of them"), std::string::npos) << e.what();
   }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <filesystem>
 
+#include "core/inertial/imu_horizon.hpp"
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/imu_messages.hpp"
 #include "io/motion_csv.hpp"
@@ -52,17 +53,53 @@ InertialInput ReadBagInertialInput(const RunnerOptions& o) {
   const std::string where = o.sequence.string() + " " + imu->topic;
   const std::optional<io::SequenceMeta> meta =
       o.sensor_meta.empty() ? std::nullopt : std::optional(io::ReadMeta(o.sensor_meta));
-  if (meta && meta->T_sensor_imu) {
-    input.imu_description.T_sensor_imu = *meta->T_sensor_imu;
-  } else if (!o.quiet) {
+  if (meta) input.imu_description = io::ImuDescriptionOf(*meta);
+  if (!(meta && meta->T_sensor_imu) && !o.quiet) {
     spdlog::warn("{}: no \"imu_extrinsic\" (--sensor-meta) for IMU frame '{}': assuming the Ouster "
                  "OS1's", where, imu->frame_id);
   }
-  if (meta && meta->imu_noise) input.imu_description.noise = *meta->imu_noise;
-  if (meta) input.imu_description.time_offset = meta->imu_time_offset;
   for (ImuSample& s : imu->samples) s.t -= input.imu_description.time_offset;
   if (!o.quiet) LogStream(where, imu->samples, imu->report, "IMU");
   input.imu = std::move(imu->samples);
+  return input;
+}
+
+// A sequence directory's imu.csv and wheel.csv with meta.json's extrinsics.
+InertialInput ReadSequenceInertialInput(const RunnerOptions& o) {
+  InertialInput input;
+  const fs::path dir = o.sequence;
+  if (!fs::is_directory(dir) || !fs::exists(dir / "meta.json")) return input;
+  const fs::path imu_csv = dir / "imu.csv", wheel_csv = dir / "wheel.csv";
+  const bool want_imu = !o.no_imu && fs::exists(imu_csv);
+  const bool want_wheel = !o.no_wheel && fs::exists(wheel_csv);
+  if (!o.quiet && o.no_imu && fs::exists(imu_csv)) spdlog::info("{}: ignored (--no-imu)", imu_csv.string());
+  if (!o.quiet && o.no_wheel && fs::exists(wheel_csv)) spdlog::info("{}: ignored (--no-wheel)", wheel_csv.string());
+  if (!want_imu && !want_wheel) return input;
+
+  const io::SequenceMeta meta = io::ReadMeta(dir / "meta.json");
+  if (want_imu) {
+    io::StreamReadReport report;
+    std::vector<ImuSample> samples = io::ReadImuCsv(imu_csv, &report);
+    const ImuDescription description = io::ImuDescriptionOf(meta);
+    if (!meta.T_sensor_imu && !o.quiet) {
+      spdlog::warn("{}: no \"imu_extrinsic\" in meta.json: assuming the Ouster OS1's", imu_csv.string());
+    }
+    for (ImuSample& s : samples) s.t -= description.time_offset;
+    if (!o.quiet) LogStream(imu_csv, samples, report, "IMU");
+    input.imu_description = description;
+    input.imu = std::move(samples);
+  }
+  if (want_wheel) {
+    io::StreamReadReport report;
+    std::vector<WheelSample> samples = io::ReadWheelCsv(wheel_csv, &report);
+    if (meta.T_sensor_base) {
+      input.T_sensor_base = *meta.T_sensor_base;
+    } else if (!o.quiet) {
+      spdlog::warn("{}: no \"base_extrinsic\" in meta.json: assuming the base at the sensor", wheel_csv.string());
+    }
+    if (!o.quiet) LogStream(wheel_csv, samples, report, "wheel odometry");
+    input.wheel = std::move(samples);
+  }
   return input;
 }
 
@@ -76,8 +113,7 @@ ImuFeed::ImuFeed(const InertialInput& input, Odometry& odometry) : odometry_(odo
 
 void ImuFeed::Through(double t) {
   if (!samples_) return;
-  constexpr double kAhead = 0.02;  // s: two periods of the OS1's 100 Hz
-  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kAhead) {
+  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kImuLookAhead) {
     odometry_.AddImu((*samples_)[next_++]);
   }
 }
@@ -107,44 +143,7 @@ void ImuFeed::Log() const {
 }
 
 InertialInput ReadInertialInput(const RunnerOptions& o) {
-  if (io::IsBagPath(o.sequence)) return ReadBagInertialInput(o);
-  InertialInput input;
-  const fs::path dir = o.sequence;
-  if (!fs::is_directory(dir) || !fs::exists(dir / "meta.json")) return input;
-  const fs::path imu_csv = dir / "imu.csv", wheel_csv = dir / "wheel.csv";
-  const bool want_imu = !o.no_imu && fs::exists(imu_csv);
-  const bool want_wheel = !o.no_wheel && fs::exists(wheel_csv);
-  if (!o.quiet && o.no_imu && fs::exists(imu_csv)) spdlog::info("{}: ignored (--no-imu)", imu_csv.string());
-  if (!o.quiet && o.no_wheel && fs::exists(wheel_csv)) spdlog::info("{}: ignored (--no-wheel)", wheel_csv.string());
-  if (!want_imu && !want_wheel) return input;
-
-  const io::SequenceMeta meta = io::ReadMeta(dir / "meta.json");
-  if (want_imu) {
-    io::StreamReadReport report;
-    std::vector<ImuSample> samples = io::ReadImuCsv(imu_csv, &report);
-    if (meta.T_sensor_imu) {
-      input.imu_description.T_sensor_imu = *meta.T_sensor_imu;
-    } else if (!o.quiet) {
-      spdlog::warn("{}: no \"imu_extrinsic\" in meta.json: assuming the Ouster OS1's", imu_csv.string());
-    }
-    if (meta.imu_noise) input.imu_description.noise = *meta.imu_noise;
-    input.imu_description.time_offset = meta.imu_time_offset;
-    for (ImuSample& s : samples) s.t -= meta.imu_time_offset;
-    if (!o.quiet) LogStream(imu_csv, samples, report, "IMU");
-    input.imu = std::move(samples);
-  }
-  if (want_wheel) {
-    io::StreamReadReport report;
-    std::vector<WheelSample> samples = io::ReadWheelCsv(wheel_csv, &report);
-    if (meta.T_sensor_base) {
-      input.T_sensor_base = *meta.T_sensor_base;
-    } else if (!o.quiet) {
-      spdlog::warn("{}: no \"base_extrinsic\" in meta.json: assuming the base at the sensor", wheel_csv.string());
-    }
-    if (!o.quiet) LogStream(wheel_csv, samples, report, "wheel odometry");
-    input.wheel = std::move(samples);
-  }
-  return input;
+  return io::IsBagPath(o.sequence) ? ReadBagInertialInput(o) : ReadSequenceInertialInput(o);
 }
 
 }  // namespace dammloam::tools

@@ -67,7 +67,12 @@ nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
           {"samples_lost", s.samples_lost}, {"samples_rejected", s.samples_rejected},
           {"samples_undeserializable", s.samples_undeserializable},
           {"incompatible_qos", s.incompatible_qos},
-          {"middleware_by_reason", ReasonsJson(s.middleware_by_reason)}};
+          {"middleware_by_reason", ReasonsJson(s.middleware_by_reason)},
+          {"tracking", s.tracking}, {"scans_degraded", s.scans_degraded},
+          {"scans_lost", s.scans_lost}, {"imu_samples", s.imu_samples},
+          {"imu_samples_dropped", s.imu_samples_dropped}, {"scans_with_imu", s.scans_with_imu},
+          {"scans_without_imu", s.scans_without_imu},
+          {"imu_by_reason", ReasonsJson(s.imu_by_reason)}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {

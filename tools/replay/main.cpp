@@ -8,6 +8,7 @@
 #include <chrono>
 #include <thread>
 
+#include "core/inertial/imu_horizon.hpp"
 #include "tools/common/dds_tool_main.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/inertial_messages.hpp"
@@ -45,9 +46,13 @@ struct Options {
   std::string write_sensor_meta;  // the model the scans were read with, for dammloamd --sensor-meta
 };
 
-// The sequence's IMU and wheel samples, on the LiDAR clock, and where publishing has got to.
-// Each scan is preceded by every sample up to its end, so a receiver has the motion that
-// covers a scan when the scan arrives (ahead of real time by up to one scan period).
+// The sequence's IMU and wheel samples, and where publishing has got to. Each scan is preceded
+// by every sample the odometry wants for it (up to its end + 20 ms, core/inertial/imu_horizon.hpp)
+// and the first IMU sample past that, which tells dammloamd that the scan's samples are complete:
+// in lock-step it then registers each scan with the samples dammloam-odometry would use (ahead
+// of real time by up to one scan period). IMU stamps go out as imu.csv has them, on the IMU's
+// clock, as a driver sends them: dammloamd subtracts the time offset (meta.json's
+// imu.time_offset_s, given to it by --sensor-meta).
 class InertialPublisher {
  public:
   InertialPublisher(dds::Participant& participant, const io::SequenceReader& sequence, const Options& o) {
@@ -55,7 +60,7 @@ class InertialPublisher {
     io::StreamReadReport report;
     if (!o.no_imu) imu_ = sequence.ReadImu(&report);
     if (imu_) {
-      for (ImuSample& s : *imu_) s.t -= meta.imu_time_offset;
+      time_offset_ = meta.imu_time_offset;
       noise_ = meta.imu_noise.value_or(ImuNoise{});
       if (imu_->size() > 1) rate_ = static_cast<double>(imu_->size() - 1) / (imu_->back().t - imu_->front().t);
       imu_topic_.emplace(participant, dammloam_msg_Imu_desc, o.imu_topic, dds::ImuQos());
@@ -74,25 +79,27 @@ class InertialPublisher {
     base_frame_ = o.base_frame_id;
   }
 
-  // Skips the samples more than one period before `t` (replay from a later scan).
+  // Skips the samples stamped before `t`, LiDAR clock (replay from a later scan).
   void SkipBefore(double t) {
-    while (imu_ && next_imu_ < imu_->size() && (*imu_)[next_imu_].t < t) ++next_imu_;
+    while (imu_ && next_imu_ < imu_->size() && (*imu_)[next_imu_].t - time_offset_ < t) ++next_imu_;
     while (wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t < t) ++next_wheel_;
   }
-  // Publishes every sample stamped before `t`.
-  void PublishUntil(double t) {
-    for (; imu_ && next_imu_ < imu_->size() && (*imu_)[next_imu_].t < t; ++next_imu_) {
+  // Publishes every sample stamped at or before `horizon` (LiDAR clock), and the first IMU
+  // sample after it.
+  void PublishThrough(double horizon) {
+    for (bool past = false; imu_ && next_imu_ < imu_->size() && !past; ++next_imu_) {
+      past = (*imu_)[next_imu_].t - time_offset_ > horizon;
       imu_writer_->Write(dds::ToImuMessage((*imu_)[next_imu_], noise_, rate_, imu_frame_, next_imu_));
     }
-    for (; wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t < t; ++next_wheel_) {
+    for (; wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t <= horizon; ++next_wheel_) {
       // The simulator's wheel noise (tools/simulate/wheel_model.hpp); real odometry brings its own.
       wheel_writer_->Write(
           dds::ToWheelMessage((*wheel_)[next_wheel_], 0.01, 0.005, base_frame_, next_wheel_));
     }
   }
   // A volatile sample written before a reader matched is lost: give subscribers of the
-  // streams time to appear, once, after dammloamd's cloud reader did (dammloamd itself does
-  // not subscribe to them yet, so this does not wait for it).
+  // streams time to appear, once, after dammloamd's cloud reader did (dammloamd's IMU reader
+  // is created with it; nothing subscribes to the wheel odometry yet).
   void WaitForReaders(std::chrono::milliseconds timeout) const {
     if (imu_writer_ && !imu_writer_->WaitForReaders(1, timeout)) {
       spdlog::info("no subscriber on '{}' yet: publishing the IMU samples anyway", imu_writer_->topic_name());
@@ -110,6 +117,7 @@ class InertialPublisher {
   std::optional<std::vector<ImuSample>> imu_;
   std::optional<std::vector<WheelSample>> wheel_;
   ImuNoise noise_;
+  double time_offset_ = 0.0;  // imu.csv's stamps minus LiDAR time
   double rate_ = 100.0;
   std::string imu_frame_, base_frame_;
   std::optional<dds::Topic> imu_topic_, wheel_topic_;
@@ -240,7 +248,7 @@ int RunSequence(const Options& o) {
   publisher.Start(sequence.times()[o.start_index]);
   for (std::size_t k = o.start_index; k < end; ++k) {
     const Scan scan = sequence.ReadScan(k);
-    if (!publisher.Publish(scan, k, [&] { inertial.PublishUntil(scan.t_start + period); })) return 4;
+    if (!publisher.Publish(scan, k, [&] { inertial.PublishThrough(ImuHorizon(scan.t_start, period)); })) return 4;
   }
   inertial.WaitForAcks();
   publisher.Finish(end - o.start_index);
