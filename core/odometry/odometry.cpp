@@ -322,7 +322,9 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   if (result.point_times != PointTimeCheck::kUsable) scan.scan.times.clear();
   const double dt = TimeStep(scan.scan.t_start, result.status);
   GyroTracks gyro = TrackGyro(scan.scan.t_start, result.gyro);
+  std::optional<WheelTrack> wheel = TrackWheel(scan.scan.t_start, result.wheel);
   Frame frame = Deskew(std::move(scan), std::move(gyro));
+  frame.wheel_interval = std::move(wheel);
   result.timings.deskew_ms = watch.LapMs();
   if (initialised_) DetectMoving(frame, dt);
   SelectSource(frame);
@@ -374,6 +376,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   }
   result.timings.map_update_ms = watch.LapMs();
   DropOldImuSamples();
+  DropOldWheelSamples();
   return Finish(std::move(result), std::move(frame), T_new);
 }
 
@@ -465,7 +468,7 @@ std::size_t Odometry::RemoveMovedAway(const Eigen::Isometry3d& T_world_sensor) {
 
 RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   frame.T_pred = Predict(velocity_, dt, frame);
-  if (frame.gyro_interval) {
+  if (frame.gyro_interval && !frame.wheel_interval) {
     frame.T_pred.translation() = T_world_last_.translation() + dt * WorldVelocity(dt);
   }
   frame.T_guess = frame.T_pred;
@@ -856,8 +859,14 @@ Eigen::Vector3d Odometry::WorldVelocity(double dt) const {
   return velocity_frame_ * ExpSE3(velocity_ * dt).translation() / dt;
 }
 
+// The wheels measured the translation since the last scan's middle (and the turn, which the
+// gyro measures better where there is one).
 Eigen::Isometry3d Odometry::Predict(const Vector6d& velocity, double dt, const Frame& frame) const {
   Eigen::Isometry3d T = T_world_last_ * ExpSE3(velocity * dt);
+  if (frame.wheel_interval) {
+    T.translation() = T_world_last_ * frame.wheel_interval->motion.translation();
+    if (!frame.gyro_interval) T.linear() = T_world_last_.linear() * frame.wheel_interval->motion.linear();
+  }
   if (frame.gyro_interval) T.linear() = T_world_last_.linear() * frame.gyro_interval->Rotation();
   return T;
 }
@@ -875,9 +884,14 @@ Eigen::Matrix3d Odometry::GyroRotationInformation(const Frame& frame) const {
 // The gyro measured the rotation since the last scan and within this one: its information
 // replaces the constant-velocity model's on the orientation, and the scan's own turn may depart
 // only a little from the gyro's deskew.
+// The wheels' information replaces the constant-velocity model's on the position: a direction the
+// scan does not observe then follows the measured motion, while the scan's far larger
+// information keeps the directions it observes.
 MotionPrior Odometry::PriorFor(const Frame& frame, double dt, bool holds) {
   MotionPrior prior = Prior(dt, holds);
-  if (!frame.gyro_interval || !UsesMotionPrior(config_.registration.mode)) return prior;
+  if (!UsesMotionPrior(config_.registration.mode)) return prior;
+  if (frame.wheel_interval) prior.translation_information = WheelTranslationInformation(frame);
+  if (!frame.gyro_interval) return prior;
   prior.rotation_information = GyroRotationInformation(frame);
   if (prior.scan_rate_sigma > 0.0) {
     prior.scan_rate_sigma = gyro_config_.in_scan_rate_sigma;

@@ -14,6 +14,9 @@
 #include "core/inertial/gyro_use_config.hpp"
 #include "core/inertial/imu_sample.hpp"
 #include "core/inertial/inertial_config.hpp"
+#include "core/inertial/wheel_integration.hpp"
+#include "core/inertial/wheel_sample.hpp"
+#include "core/inertial/wheel_use_config.hpp"
 #include "core/map/persistence_filter.hpp"
 #include "core/map/voxel_hash_map.hpp"
 #include "core/odometry/compact_objects.hpp"
@@ -65,6 +68,15 @@ class Odometry {
   std::size_t imu_samples_rejected() const { return imu_rejected_; }
   // The gyro bias estimate (IMU frame, rad/s); empty without EnableImu.
   std::optional<Eigen::Vector3d> gyro_bias() const;
+  // Issue 55: use wheel odometry (the base twist, base frame at config.T_sensor_base). Without
+  // this call, or while no samples cover a scan interval, that scan's prediction is the
+  // constant-velocity model's, bit-identical to before.
+  void EnableWheel(const WheelUseConfig& config);
+  // One wheel sample, LiDAR clock, handed over before the scan it covers is registered (up to
+  // the scan's middle at least). Rejected (false, counted by reason) without EnableWheel, with
+  // a non-finite stamp or value, a stamp not after the previous one, or an absurd speed.
+  bool AddWheel(const WheelSample& sample);
+  const WheelRejections& wheel_rejections() const { return wheel_rejected_; }
   // Body-frame twist [v; w] per second of the constant-velocity model.
   const Vector6d& velocity() const { return velocity_; }
 
@@ -91,6 +103,8 @@ class Odometry {
     // The gyro's rotation through the scan and from the previous scan's middle to this one's,
     // both set or neither (not covered: the scan is the LiDAR's alone).
     std::optional<GyroTrack> gyro_scan, gyro_interval;
+    // Wheel odometry from the previous scan's middle to this one's (not covered: none).
+    std::optional<WheelTrack> wheel_interval;
   };
   // The gyro's tracks for a scan starting at t_start; `why` says whether they cover it.
   struct GyroTracks {
@@ -98,6 +112,10 @@ class Odometry {
   };
   GyroTracks TrackGyro(double t_start, std::optional<GyroCoverage>& why) const;
   GyroCalibration Calibration() const;
+  std::optional<WheelTrack> TrackWheel(double t_start, std::optional<WheelCoverage>& why) const;
+  // The wheels' translation covariance in the world frame, inverted (the prior's information).
+  Eigen::Matrix3d WheelTranslationInformation(const Frame& frame) const;
+  void DropOldWheelSamples();
   // With `gyro`: its rotation through the scan, the constant velocity's translation.
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity,
                                     const GyroTrack* gyro = nullptr) const;
@@ -225,6 +243,10 @@ class Odometry {
   std::size_t imu_rejected_ = 0;
   std::optional<GyroBiasFilter> gyro_bias_;
   std::optional<GyroTrack> first_scan_gyro_;  // with first_scan_raw_
+  // Wheel odometry (EnableWheel): its use, samples (LiDAR clock) and what was refused.
+  std::optional<WheelUseConfig> wheel_;
+  std::vector<WheelSample> wheel_samples_;
+  WheelRejections wheel_rejected_;
 };
 
 }  // namespace dammloam

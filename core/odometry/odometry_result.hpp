@@ -10,6 +10,7 @@
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/se3.hpp"
 #include "core/inertial/gyro_integration.hpp"
+#include "core/inertial/wheel_integration.hpp"
 #include "core/odometry/tracking_health.hpp"
 #include "core/preprocess/point_times.hpp"
 
@@ -115,6 +116,10 @@ struct OdometryResult {
   // With an IMU (Odometry::EnableImu): whether its gyro covered this scan (kCovered: used) or
   // why the scan fell back to the LiDAR alone; empty without an IMU.
   std::optional<GyroCoverage> gyro;
+  // With wheel odometry (Odometry::EnableWheel): whether it covered the interval from the
+  // previous scan (kCovered: its motion was the prediction's translation and a prior), or why
+  // the scan fell back to the LiDAR and the constant-velocity model; empty without it.
+  std::optional<WheelCoverage> wheel;
 };
 
 }  // namespace dammloam

@@ -142,6 +142,48 @@ void ImuFeed::Log() const {
                odometry_.imu_samples_rejected(), bias.x(), bias.y(), bias.z());
 }
 
+WheelFeed::WheelFeed(const InertialInput& input, Odometry& odometry) : odometry_(odometry) {
+  if (!input.wheel || input.wheel->empty()) return;
+  samples_ = &*input.wheel;
+  WheelUseConfig config;
+  config.T_sensor_base = input.T_sensor_base;
+  odometry_.EnableWheel(config);
+}
+
+void WheelFeed::Through(double t) {
+  if (!samples_) return;
+  constexpr double kAhead = 0.04;  // s: two periods of a 50 Hz controller
+  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kAhead) {
+    odometry_.AddWheel((*samples_)[next_++]);
+  }
+}
+
+void WheelFeed::Count(const OdometryResult& result) {
+  ++scans_;
+  if (result.wheel) ++by_coverage_[static_cast<std::size_t>(*result.wheel)];
+}
+
+void WheelFeed::Log() const {
+  if (!samples_) {
+    spdlog::info("wheel odometry: not used (none in the input, or --no-wheel)");
+    return;
+  }
+  const std::size_t used = by_coverage_[static_cast<std::size_t>(WheelCoverage::kCovered)];
+  std::string why;
+  for (WheelCoverage c : {WheelCoverage::kNoSamples, WheelCoverage::kGap}) {
+    const std::size_t n = by_coverage_[static_cast<std::size_t>(c)];
+    if (n > 0) why += fmt::format("{}{} {}", why.empty() ? "" : ", ", n, Name(c));
+  }
+  const WheelRejections& r = odometry_.wheel_rejections();
+  const std::size_t fell = by_coverage_[static_cast<std::size_t>(WheelCoverage::kNoSamples)] +
+                           by_coverage_[static_cast<std::size_t>(WheelCoverage::kGap)];
+  spdlog::info("wheel odometry: used on {} of {} scans (the first has no interval), {} fell back to "
+               "the LiDAR's motion model{}{}{}; samples refused: {} non-finite, {} duplicate stamp, "
+               "{} out of order, {} absurd speed", used, scans_, fell,
+               why.empty() ? "" : " (", why, why.empty() ? "" : ")", r.non_finite, r.duplicate,
+               r.out_of_order, r.absurd);
+}
+
 InertialInput ReadInertialInput(const RunnerOptions& o) {
   return io::IsBagPath(o.sequence) ? ReadBagInertialInput(o) : ReadSequenceInertialInput(o);
 }

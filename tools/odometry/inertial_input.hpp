@@ -12,8 +12,8 @@
 #include "tools/odometry/runner.hpp"
 
 // A sequence's imu.csv and wheel.csv with their meta.json extrinsics, read once before the run
-// (issue 55). The odometry uses the IMU's gyroscope (Odometry::EnableImu); the wheel odometry is
-// read and checked, not used yet. Without them (or with --no-imu / --no-wheel) the poses stay
+// (issue 55). The odometry uses the IMU's gyroscope (Odometry::EnableImu) and the wheel odometry
+// (Odometry::EnableWheel). Without them (or with --no-imu / --no-wheel) the poses stay
 // bit-identical to the LiDAR's alone.
 namespace dammloam::tools {
 
@@ -47,6 +47,25 @@ class ImuFeed {
   std::size_t next_ = 0;
   std::size_t scans_ = 0;
   std::array<std::size_t, 8> by_coverage_{};  // indexed by GyroCoverage
+};
+
+// Hands the wheel samples to the odometry scan by scan, as ImuFeed does the IMU's, and counts
+// how each scan interval used them. Without wheel samples it does nothing.
+class WheelFeed {
+ public:
+  WheelFeed(const InertialInput& input, Odometry& odometry);
+  void Through(double t);
+  void Count(const OdometryResult& result);
+  // One line: on how many scan intervals the wheels were used, how many fell back and why,
+  // how many samples the odometry refused and why.
+  void Log() const;
+
+ private:
+  const std::vector<WheelSample>* samples_ = nullptr;
+  Odometry& odometry_;
+  std::size_t next_ = 0;
+  std::size_t scans_ = 0;
+  std::array<std::size_t, 4> by_coverage_{};  // indexed by WheelCoverage
 };
 
 }  // namespace dammloam::tools

@@ -93,12 +93,13 @@ int RunMapping(const RunnerOptions& o) {
       o.backend_config.empty() ? backend::BackendParameters{}
                                : io::LoadBackendConfig(o.backend_config);
   const std::size_t n = ScansToRun(*source, o.max_scans);
-  // The IMU's gyroscope drives the odometry's rotation (issue 55); the wheel odometry is read
-  // and checked, not used yet.
+  // The IMU's gyroscope drives the odometry's rotation, the wheel odometry its translation
+  // (issue 55).
   const InertialInput inertial = ReadInertialInput(o);
 
   OdometryPipeline pipeline(config, source->model());
   ImuFeed imu_feed(inertial, pipeline.odometry());
+  WheelFeed wheel_feed(inertial, pipeline.odometry());
   // Without loop closure the back-end is only needed to build a map for --save-map; it then
   // keeps keyframes but verifies no loop candidate.
   std::unique_ptr<backend::LoopClosingBackend> backend;
@@ -127,8 +128,10 @@ int RunMapping(const RunnerOptions& o) {
        ++i) {
     const double t_start = scan->t_start;
     imu_feed.Through(t_start + source->model().scan_period);
+    wheel_feed.Through(t_start + source->model().scan_period);
     const OdometryResult result = pipeline.Process(std::move(*scan));
     imu_feed.Count(result);
+    wheel_feed.Count(result);
     odometry.push_back({t_start, result.T_world_sensor});
     scan_indices.push_back(result.scan_index);
     total_ms.push_back(result.timings.total_ms);
@@ -177,6 +180,7 @@ int RunMapping(const RunnerOptions& o) {
   spdlog::info("{} scans, {} not registered, median {:.1f} ms per scan -> {}", i, not_registered,
                Median(total_ms), o.out.string());
   imu_feed.Log();
+  wheel_feed.Log();
   if (o.loop_closure) {
     spdlog::info("loop closure: {} keyframes, {} loop candidates, {} accepted, {} pose-graph "
                  "solves", backend->NumKeyframes(), events.accepted + events.rejected,
