@@ -153,6 +153,17 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
       stats_.Error(message);
     }
   }
+  if (config.wheel.enabled) {
+    // As the IMU's: a refused topic costs the wheels, never the daemon.
+    try {
+      wheel_ = std::make_unique<WheelInput>(participant_, config, stats_);
+    } catch (const dds::DdsError& e) {
+      const std::string message =
+          std::string("wheel odometry input off (the LiDAR alone): ") + e.what();
+      spdlog::error("{}", message);
+      stats_.Error(message);
+    }
+  }
   commands_ = std::make_unique<CommandStage>(
       participant_, config,
       std::map<std::string, CommandHandler>{
@@ -174,6 +185,7 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
   }
   if (loop_closure_) loop_closure_->WatchEndpoints(middleware_);
   if (imu_) imu_->Watch(middleware_);
+  if (wheel_) wheel_->Watch(middleware_);
   commands_->WatchEndpoints(middleware_);
 }
 
@@ -327,9 +339,11 @@ void Daemon::RegistrationLoop() {
     if (!item) continue;
     try {
       FeedImu(item->scan.scan.t_start);
+      FeedWheel(item->scan.scan.t_start);
       // The map update waits until the pose is on its way: it is not on the latency path.
       OdometryResult result = odometry_.RegisterDeferringMap(std::move(item->scan));
       if (imu_) imu_->Count(result);
+      if (wheel_) wheel_->Count(result);
       {
         // Before the result leaves: in lock-step the next scan is sent only after this pose
         // arrives, so its features see exactly this prediction.
@@ -354,6 +368,17 @@ void Daemon::FeedImu(double t_start) {
     imu_->FeedThrough(t_start, odometry_, stop_);
   } catch (const std::exception& e) {
     StageFailed(Stage::kReceive, std::string("IMU input: ") + e.what());
+  }
+}
+
+// The wheel samples that cover the scan's interval, as FeedImu: a failure costs the scan its
+// wheels, never the scan.
+void Daemon::FeedWheel(double t_start) {
+  if (!wheel_) return;
+  try {
+    wheel_->FeedThrough(t_start, odometry_, stop_);
+  } catch (const std::exception& e) {
+    StageFailed(Stage::kReceive, std::string("wheel odometry input: ") + e.what());
   }
 }
 
@@ -587,6 +612,12 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.scans_with_imu = s.scans_with_imu;
   msg.scans_without_imu = s.scans_without_imu;
   ViewAsSequence(imu, msg.imu_by_reason);
+  std::vector<dammloam_msg_ReasonCount> wheel = ReasonCounts(s.wheel_by_reason);
+  msg.wheel_samples = s.wheel_samples;
+  msg.wheel_samples_dropped = s.wheel_samples_dropped;
+  msg.scans_with_wheel = s.scans_with_wheel;
+  msg.scans_without_wheel = s.scans_without_wheel;
+  ViewAsSequence(wheel, msg.wheel_by_reason);
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

@@ -23,6 +23,7 @@
 #include "services/dammloamd/daemon_stats.hpp"
 #include "services/dammloamd/imu_input.hpp"
 #include "services/dammloamd/stage_queue.hpp"
+#include "services/dammloamd/wheel_input.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/middleware_watch.hpp"
 #include "services/dds/point_cloud.hpp"
@@ -81,6 +82,7 @@ class Daemon {
   void FeatureLoop();
   void RegistrationLoop();
   void FeedImu(double t_start);
+  void FeedWheel(double t_start);
   void PublishLoop();
 
   void ReceiveGuarded(const std::function<void()>& handle);
@@ -153,6 +155,7 @@ class Daemon {
   std::unique_ptr<MapLocalization> localization_;    // never null
   std::unique_ptr<CommandStage> commands_;
   std::unique_ptr<ImuInput> imu_;                    // null: dammloamd.imu.enabled is false
+  std::unique_ptr<WheelInput> wheel_;                // null: dammloamd.wheel.enabled is false
   // Every reader and writer above; polled by the publish thread (ReportMiddlewareDrops).
   dds::MiddlewareWatch middleware_;
   std::atomic<bool> stop_{false};

@@ -67,7 +67,7 @@ void ReadSensor(const YAML::Node& node, DaemonConfig& c) {
 void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   const std::string path = "dammloamd.topics";
   RejectUnknownKeys(node, path, {"points", "odometry", "labelled_cloud", "loop_closure", "status",
-                                 "command", "command_reply", "imu"});
+                                 "command", "command_reply", "imu", "wheel_odometry"});
   Read(node, "points", path, t.points);
   Read(node, "odometry", path, t.odometry);
   Read(node, "labelled_cloud", path, t.labelled_cloud);
@@ -76,18 +76,20 @@ void ReadTopics(const YAML::Node& node, dds::TopicNames& t) {
   Read(node, "command", path, t.command);
   Read(node, "command_reply", path, t.command_reply);
   Read(node, "imu", path, t.imu);
+  Read(node, "wheel_odometry", path, t.wheel_odometry);
 }
 
 void ReadRos2(const YAML::Node& node, Ros2Config& r) {
   const std::string path = "dammloamd.ros2";
   RejectUnknownKeys(node, path, {"enabled", "points_topic", "odometry_topic",
-                                 "labelled_cloud_topic", "imu_topic", "publish_tf", "map_frame",
-                                 "odom_frame", "sensor_frame", "deskew"});
+                                 "labelled_cloud_topic", "imu_topic", "wheel_topic", "publish_tf",
+                                 "map_frame", "odom_frame", "sensor_frame", "deskew"});
   Read(node, "enabled", path, r.enabled);
   Read(node, "points_topic", path, r.points_topic);
   Read(node, "odometry_topic", path, r.odometry_topic);
   Read(node, "labelled_cloud_topic", path, r.labelled_cloud_topic);
   Read(node, "imu_topic", path, r.imu_topic);
+  Read(node, "wheel_topic", path, r.wheel_topic);
   Read(node, "publish_tf", path, r.publish_tf);
   Read(node, "map_frame", path, r.map_frame);
   Read(node, "odom_frame", path, r.odom_frame);
@@ -206,6 +208,43 @@ void ValidateImu(const ImuConfig& c) {
   }
 }
 
+void ReadWheel(const YAML::Node& node, WheelConfig& c) {
+  const std::string path = "dammloamd.wheel";
+  RejectUnknownKeys(node, path, {"enabled", "extrinsic", "time_offset", "max_wait",
+                                 "max_clock_offset", "max_speed", "max_yaw_rate"});
+  if (!node) return;
+  Read(node, "enabled", path, c.enabled);
+  if (node["extrinsic"]) {
+    c.T_sensor_base = ReadTransform(node["extrinsic"], path + ".extrinsic");
+    c.extrinsic_set = c.extrinsic_known = true;
+  }
+  for (auto [key, value] : {std::pair{"time_offset", &c.time_offset},
+                            std::pair{"max_wait", &c.max_wait},
+                            std::pair{"max_clock_offset", &c.max_clock_offset},
+                            std::pair{"max_speed", &c.max_speed},
+                            std::pair{"max_yaw_rate", &c.max_yaw_rate}}) {
+    if (node[key]) *value = ReadNumber(node, key, path);
+  }
+}
+
+void ValidateWheel(const WheelConfig& c) {
+  const std::string path = "dammloamd.wheel";
+  if (!(c.max_wait >= 0.0 && c.max_wait <= 1.0)) Fail(path + ".max_wait", "must be in [0, 1] s");
+  if (!(c.max_clock_offset > 0.0 && c.max_clock_offset <= 10.0)) {
+    Fail(path + ".max_clock_offset", "must be in (0, 10] s");
+  }
+  if (!(std::isfinite(c.time_offset) && std::abs(c.time_offset) < c.max_clock_offset)) {
+    Fail(path + ".time_offset", "must be finite and smaller in magnitude than max_clock_offset (" +
+                                    std::to_string(c.max_clock_offset) + " s)");
+  }
+  if (!(std::isfinite(c.max_speed) && c.max_speed > 0.0)) {
+    Fail(path + ".max_speed", "must be a positive number (m/s)");
+  }
+  if (!(std::isfinite(c.max_yaw_rate) && c.max_yaw_rate > 0.0)) {
+    Fail(path + ".max_yaw_rate", "must be a positive number (rad/s)");
+  }
+}
+
 // ROS 2 names: [A-Za-z0-9_/], no empty tokens, no trailing slash (what rcl accepts, minus ~ and
 // substitutions, which need a node).
 void ValidateRos2Name(const std::string& key, const std::string& name) {
@@ -239,6 +278,12 @@ void ValidateRos2(const Ros2Config& r) {
   ValidateRos2Name("dammloamd.ros2.odometry_topic", r.odometry_topic);
   ValidateRos2Name("dammloamd.ros2.labelled_cloud_topic", r.labelled_cloud_topic);
   ValidateRos2Name("dammloamd.ros2.imu_topic", r.imu_topic);
+  ValidateRos2Name("dammloamd.ros2.wheel_topic", r.wheel_topic);
+  // Both are nav_msgs/Odometry: the daemon would take its own poses for wheel odometry.
+  if (r.wheel_topic == r.odometry_topic) {
+    Fail("dammloamd.ros2.wheel_topic", "('" + r.wheel_topic + "') must differ from odometry_topic "
+                                       "(the daemon's own output)");
+  }
   ValidateFrame("dammloamd.ros2.map_frame", r.map_frame, false);
   ValidateFrame("dammloamd.ros2.odom_frame", r.odom_frame, false);
   ValidateFrame("dammloamd.ros2.sensor_frame", r.sensor_frame, true);
@@ -255,7 +300,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   const std::string path = "dammloamd";
   RejectUnknownKeys(node, path, {"domain", "node_name", "map_frame", "sensor", "topics", "input",
                                  "queues", "publish", "loop_closure", "save_map_on_shutdown",
-                                 "ros2", "commands", "imu"});
+                                 "ros2", "commands", "imu", "wheel"});
   if (!node) return c;
   Read(node, "domain", path, c.domain);
   Read(node, "node_name", path, c.node_name);
@@ -269,6 +314,7 @@ DaemonConfig ParseDaemon(const YAML::Node& node) {
   ReadRos2(node["ros2"], c.ros2);
   ReadCommands(node["commands"], c.commands);
   ReadImu(node["imu"], c.imu);
+  ReadWheel(node["wheel"], c.wheel);
 
   const YAML::Node input = node["input"];
   RejectUnknownKeys(input, "dammloamd.input",
@@ -385,13 +431,15 @@ void ValidateDaemonConfig(const DaemonConfig& c) {
   if (!(c.status_period > 0.0)) Fail("dammloamd.publish.status_period", "must be positive");
   for (const std::string* topic : {&c.topics.points, &c.topics.odometry, &c.topics.labelled_cloud,
                                    &c.topics.loop_closure, &c.topics.status, &c.topics.command,
-                                   &c.topics.command_reply, &c.topics.imu}) {
+                                   &c.topics.command_reply, &c.topics.imu,
+                                   &c.topics.wheel_odometry}) {
     if (topic->empty()) Fail("dammloamd.topics", "names must not be empty");
   }
   ValidateSaveOnShutdown(c.save_map_on_shutdown);
   ValidateRos2(c.ros2);
   ValidateCommands(c.commands);
   ValidateImu(c.imu);
+  ValidateWheel(c.wheel);
 }
 
 void ApplySensorMeta(const io::SequenceMeta& meta, DaemonConfig& c) {
@@ -403,6 +451,11 @@ void ApplySensorMeta(const io::SequenceMeta& meta, DaemonConfig& c) {
   if (!c.imu.extrinsic_set) imu.T_sensor_imu = from_meta.T_sensor_imu;
   if (!c.imu.noise_set) imu.noise = from_meta.noise;
   if (!c.imu.time_offset_set) imu.time_offset = from_meta.time_offset;
+  // The base as dammloam-odometry places it for a sequence's wheel.csv.
+  if (!c.wheel.extrinsic_set && meta.T_sensor_base) {
+    c.wheel.T_sensor_base = *meta.T_sensor_base;
+    c.wheel.extrinsic_known = true;
+  }
 }
 
 void ApplyOusterMetadata(DaemonConfig& c) {

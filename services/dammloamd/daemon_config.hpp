@@ -2,6 +2,7 @@
 // dammloamd configuration: the `dammloamd` section of the YAML file (this struct), the
 // `odometry` section (OdometryConfig, parsed by io/config_yaml) and the `backend` section
 // (backend::BackendParameters, parsed by io/backend_config_yaml).
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -26,6 +27,7 @@ struct Ros2Config {
   std::string odometry_topic = "/dammloam/odometry";             // nav_msgs/Odometry out
   std::string labelled_cloud_topic = "/dammloam/labelled_cloud"; // sensor_msgs/PointCloud2 out
   std::string imu_topic = "/imu";                                // sensor_msgs/Imu in (imu.enabled)
+  std::string wheel_topic = "/odom";  // nav_msgs/Odometry in, its twist (wheel.enabled)
   bool publish_tf = true;                                        // /tf: map->odom, odom->sensor
   std::string map_frame = "map";
   std::string odom_frame = "odom";
@@ -73,6 +75,32 @@ struct ImuConfig {
   double max_clock_offset = 1.0;
 };
 
+// The `wheel` section (issue 55): wheel odometry's motion between scans is the prediction's
+// translation and a translation prior of the registration, as in dammloam-odometry with a
+// sequence's wheel.csv. The extrinsic: wheel.extrinsic, else --sensor-meta's meta.json
+// "base_extrinsic", else the base at the sensor (identity, with a warning).
+struct WheelConfig {
+  // Subscribe to the WheelOdometry topic (and, with ros2, to ros2.wheel_topic). Used from the
+  // first sample on; without samples every scan is the LiDAR's alone, bit-identical to off.
+  bool enabled = true;
+  // base frame in the sensor frame: p_sensor = T_sensor_base p_base.
+  Eigen::Isometry3d T_sensor_base = Eigen::Isometry3d::Identity();
+  bool extrinsic_set = false;    // wheel.extrinsic was given
+  bool extrinsic_known = false;  // from wheel.extrinsic or meta.json (else identity, assumed)
+  // Wheel stamp minus the LiDAR time of the same instant, s: subtracted from every stamp.
+  double time_offset = 0.0;
+  // Wall time a scan waits at most for the samples that cover it (up to its end + 40 ms), s;
+  // only while a wheel writer is matched.
+  double max_wait = 0.05;
+  // A sample stamped further than this from the scan being registered is on another clock (or
+  // its time offset is wrong): dropped and counted (clock_offset), s.
+  double max_clock_offset = 1.0;
+  // Readings beyond these are no carrier's motion (a corrupted message, a unit error): dropped
+  // and counted (absurd_speed). WheelUseConfig's defaults, which the offline runner uses.
+  double max_speed = 20.0;     // m/s
+  double max_yaw_rate = 10.0;  // rad/s, any axis
+};
+
 struct DaemonConfig {
   std::uint32_t domain = 0;
   std::string node_name = "dammloamd";
@@ -95,6 +123,7 @@ struct DaemonConfig {
   Ros2Config ros2;
   CommandsConfig commands;
   ImuConfig imu;
+  WheelConfig wheel;
 };
 
 struct FullConfig {
@@ -107,8 +136,8 @@ struct FullConfig {
 // key). Throws std::runtime_error naming the file and key. An empty path gives the defaults.
 FullConfig LoadConfig(const std::filesystem::path& file);
 
-// --sensor-meta: the sensor model, and the IMU's extrinsic, noise and time offset where the
-// YAML did not give them.
+// --sensor-meta: the sensor model, the IMU's extrinsic, noise and time offset, and the wheels'
+// base extrinsic, where the YAML did not give them.
 void ApplySensorMeta(const io::SequenceMeta& meta, DaemonConfig& config);
 // imu.ouster_metadata: its imu_to_sensor_transform as the extrinsic unless imu.extrinsic was
 // given (then it must agree within 1 mm and 0.1 deg). Call after ApplySensorMeta: the metadata

@@ -67,6 +67,27 @@ void DaemonStats::ImuScan(std::string_view why) {
   ++counters_.imu_by_reason["scan:" + std::string(why)];
 }
 
+void DaemonStats::WheelSamples(std::uint64_t taken) {
+  std::lock_guard lock(mutex_);
+  counters_.wheel_samples += taken;
+}
+
+void DaemonStats::WheelSampleFault(const std::string& reason, bool dropped) {
+  std::lock_guard lock(mutex_);
+  counters_.wheel_samples_dropped += dropped;
+  ++counters_.wheel_by_reason["sample:" + reason];
+}
+
+void DaemonStats::WheelScan(std::string_view why) {
+  std::lock_guard lock(mutex_);
+  if (why.empty()) {
+    ++counters_.scans_with_wheel;
+    return;
+  }
+  ++counters_.scans_without_wheel;
+  ++counters_.wheel_by_reason["scan:" + std::string(why)];
+}
+
 void DaemonStats::Dropped(const std::string& where) {
   std::lock_guard lock(mutex_);
   ++counters_.dropped;

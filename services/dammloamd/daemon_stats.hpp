@@ -38,6 +38,10 @@ struct StatusSnapshot {
   std::uint64_t imu_samples = 0, imu_samples_dropped = 0, scans_with_imu = 0,
                 scans_without_imu = 0;
   std::map<std::string, std::uint64_t> imu_by_reason;
+  // The wheel-odometry input (DaemonStatus.wheel_*), the same counts for the wheels.
+  std::uint64_t wheel_samples = 0, wheel_samples_dropped = 0, scans_with_wheel = 0,
+                scans_without_wheel = 0;
+  std::map<std::string, std::uint64_t> wheel_by_reason;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -65,6 +69,10 @@ class DaemonStats {
   void ImuSampleFault(const std::string& reason, bool dropped);
   // A scan registered with the gyro (why empty) or without it (why: the reason).
   void ImuScan(std::string_view why = {});
+  // The same for wheel odometry: samples taken, a sample fault, a scan with or without them.
+  void WheelSamples(std::uint64_t taken);
+  void WheelSampleFault(const std::string& reason, bool dropped);
+  void WheelScan(std::string_view why = {});
   StatusSnapshot Snapshot() const;
 
  private:

@@ -1,6 +1,7 @@
-// dammloamd: subscribes to PointCloud, Imu and Command, publishes Odometry, LabelledCloud,
-// Status, CommandReply and LoopClosure over Cyclone DDS; with --ros2 also ROS 2 PointCloud2 and
-// Imu in and nav_msgs/Odometry, PointCloud2 and /tf out (no ROS library).
+// dammloamd: subscribes to PointCloud, Imu, WheelOdometry and Command, publishes Odometry,
+// LabelledCloud, Status, CommandReply and LoopClosure over Cyclone DDS; with --ros2 also ROS 2
+// PointCloud2, Imu and wheel nav_msgs/Odometry in and nav_msgs/Odometry, PointCloud2 and /tf out
+// (no ROS library).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -29,6 +30,7 @@ struct Options {
   bool no_loop_closure = false;
   bool ros2 = false;
   bool no_imu = false;
+  bool no_wheel = false;
   bool allow_default_network = false;
   bool check_config = false;
   std::string log_level = "info";
@@ -51,6 +53,7 @@ dammloam::daemon::FullConfig BuildConfig(const Options& o) {
   if (o.no_loop_closure) d.loop_closure = false;
   if (o.ros2) d.ros2.enabled = true;
   if (o.no_imu) d.imu.enabled = false;
+  if (o.no_wheel) d.wheel.enabled = false;
   if (!d.sensor_meta.empty()) daemon::ApplySensorMeta(io::ReadMeta(d.sensor_meta), d);
   if (!o.ouster_metadata.empty()) d.imu.ouster_metadata = o.ouster_metadata;
   daemon::ApplyOusterMetadata(d);
@@ -85,6 +88,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-loop-closure", o.no_loop_closure, "do not run the loop-closure back-end");
   app.add_flag("--no-imu", o.no_imu,
                "take no IMU samples (dammloamd.imu.enabled: false): the LiDAR alone");
+  app.add_flag("--no-wheel", o.no_wheel,
+               "take no wheel odometry (dammloamd.wheel.enabled: false): the LiDAR alone");
   app.add_flag("--ros2", o.ros2,
                "also speak ROS 2 (dammloamd.ros2.enabled): PointCloud2 in, Odometry, labelled "
                "PointCloud2 and /tf out; the ros2 section's values or its defaults");
@@ -154,6 +159,21 @@ int main(int argc, char** argv) {
                    d.imu.description.noise.gyro_noise_density);
     } else {
       spdlog::info("IMU off (--no-imu or dammloamd.imu.enabled: false): the LiDAR alone");
+    }
+    if (d.wheel.enabled) {
+      const Eigen::Vector3d t = d.wheel.T_sensor_base.translation();
+      const Eigen::Quaterniond q(d.wheel.T_sensor_base.linear());
+      spdlog::info("wheel odometry on {}{}: T_sensor_base t [{:.4f} {:.4f} {:.4f}] m q_xyzw [{:.6f} "
+                   "{:.6f} {:.6f} {:.6f}], time offset {:.6f} s; used once samples arrive",
+                   d.topics.wheel_odometry, d.ros2.enabled ? " and " + d.ros2.wheel_topic : std::string(),
+                   t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), d.wheel.time_offset);
+      if (!d.wheel.extrinsic_known) {
+        // A wrong lever arm turns every turn into a sideways slide of the sensor.
+        spdlog::warn("wheel odometry: no extrinsic (dammloamd.wheel.extrinsic, or --sensor-meta's "
+                     "base_extrinsic): assuming the base frame at the sensor (identity)");
+      }
+    } else {
+      spdlog::info("wheel odometry off (--no-wheel or dammloamd.wheel.enabled: false)");
     }
     if (d.ros2.enabled) {
       spdlog::info("ROS 2: {} -> {}, {}{}; frames {} -> {} -> {}; deskew {}", d.ros2.points_topic,

@@ -64,4 +64,11 @@ WheelSample FromWheelMessage(const dammloam_msg_WheelOdometry& message) {
           FromVector(message.angular_velocity)};
 }
 
+WheelSample FromRos2WheelOdometry(const nav_msgs_msg_dds__Odometry_& message) {
+  const auto& v = message.twist.twist.linear;
+  const auto& w = message.twist.twist.angular;
+  return {ToSeconds(dammloam_msg_Time{message.header.stamp.sec, message.header.stamp.nanosec}),
+          {v.x, v.y, v.z}, {w.x, w.y, w.z}};
+}
+
 }  // namespace dammloam::dds

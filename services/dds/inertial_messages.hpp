@@ -1,12 +1,13 @@
 #pragma once
 // ImuSample / WheelSample (core/inertial) <-> the Imu and WheelOdometry samples, and ROS 2
-// sensor_msgs/Imu -> ImuSample (issue 55).
+// sensor_msgs/Imu -> ImuSample, nav_msgs/Odometry's twist -> WheelSample (issue 55).
 #include <string>
 
 #include "core/inertial/imu_sample.hpp"
 #include "core/inertial/inertial_config.hpp"
 #include "core/inertial/wheel_sample.hpp"
 #include "dammloam.h"
+#include "nav_msgs.h"
 #include "sensor_msgs.h"
 
 namespace dammloam::dds {
@@ -24,5 +25,8 @@ dammloam_msg_WheelOdometry ToWheelMessage(const WheelSample& sample, double spee
                                           double yaw_rate_sigma, const std::string& frame_id,
                                           std::uint64_t seq);
 WheelSample FromWheelMessage(const dammloam_msg_WheelOdometry& message);
+// ROS 2 nav_msgs/Odometry from a wheel controller (diff_drive_controller's /odom): its twist, in
+// child_frame_id (the base frame); its pose, integrated by the robot, is not read.
+WheelSample FromRos2WheelOdometry(const nav_msgs_msg_dds__Odometry_& message);
 
 }  // namespace dammloam::dds

@@ -58,6 +58,9 @@ struct ReceivedStatus {
   std::uint64_t degraded = 0, lost = 0, without_point_times = 0;
   std::uint64_t imu_samples = 0, imu_samples_dropped = 0, scans_with_imu = 0, scans_without_imu = 0;
   std::map<std::string, std::uint64_t> imu_by_reason;
+  std::uint64_t wheel_samples = 0, wheel_samples_dropped = 0, scans_with_wheel = 0,
+                scans_without_wheel = 0;
+  std::map<std::string, std::uint64_t> wheel_by_reason;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
@@ -66,9 +69,14 @@ inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
                    m.publish_errors, m.backend_errors, m.loop_closure, m.samples_lost,
                    m.samples_rejected, m.samples_undeserializable, m.incompatible_qos, {},
                    m.tracking, m.scans_degraded, m.scans_lost, m.scans_without_point_times,
-                   m.imu_samples, m.imu_samples_dropped, m.scans_with_imu, m.scans_without_imu, {}};
+                   m.imu_samples, m.imu_samples_dropped, m.scans_with_imu, m.scans_without_imu, {},
+                   m.wheel_samples, m.wheel_samples_dropped, m.scans_with_wheel,
+                   m.scans_without_wheel, {}};
   for (std::uint32_t i = 0; i < m.imu_by_reason._length; ++i) {
     s.imu_by_reason[m.imu_by_reason._buffer[i].reason] = m.imu_by_reason._buffer[i].count;
+  }
+  for (std::uint32_t i = 0; i < m.wheel_by_reason._length; ++i) {
+    s.wheel_by_reason[m.wheel_by_reason._buffer[i].reason] = m.wheel_by_reason._buffer[i].count;
   }
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;

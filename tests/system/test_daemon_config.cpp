@@ -278,6 +278,72 @@ TEST(DaemonConfig, ImuSectionTakesSensorMetaWhereTheYamlIsSilentAndMistakesNameT
             std::string::npos);
 }
 
+// The wheel section (issue 55): on by default at identity (assumed, not known); the extrinsic
+// from the YAML, else meta.json's base_extrinsic; mistakes name the key.
+TEST(DaemonConfig, WheelSectionTakesTheBaseExtrinsicFromTheYamlElseSensorMetaAndMistakesNameTheKey) {
+  const FullConfig shipped =
+      LoadConfig(std::string(DAMMLOAM_SOURCE_DIR) + "/deploy/config/dammloamd.yaml");
+  const WheelConfig& w = shipped.daemon.wheel;
+  EXPECT_TRUE(w.enabled);
+  EXPECT_EQ(shipped.daemon.topics.wheel_odometry, "dammloam_wheel_odometry");
+  EXPECT_EQ(shipped.daemon.ros2.wheel_topic, "/odom");
+  EXPECT_TRUE(w.T_sensor_base.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(w.extrinsic_known);
+  EXPECT_EQ(w.time_offset, 0.0);
+
+  io::SequenceMeta meta;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.0, 0.0, -0.4);
+  meta.T_sensor_base = T;
+  DaemonConfig from_meta = shipped.daemon;
+  ApplySensorMeta(meta, from_meta);
+  EXPECT_TRUE(from_meta.wheel.T_sensor_base.isApprox(T));
+  EXPECT_TRUE(from_meta.wheel.extrinsic_known);
+  DaemonConfig without_base = shipped.daemon;
+  ApplySensorMeta(io::SequenceMeta{}, without_base);
+  EXPECT_FALSE(without_base.wheel.extrinsic_known);
+
+  const test::TempDir dir("config-wheel");
+  const auto file = dir / "wheel.yaml";
+  std::ofstream(file) << "dammloamd:\n  topics:\n    wheel_odometry: my_wheels\n"
+                         "  ros2:\n    wheel_topic: /base/odom\n"
+                         "  wheel:\n    time_offset: 0.01\n    max_wait: 0.02\n"
+                         "    max_speed: 3.0\n    max_yaw_rate: 2.0\n"
+                         "    extrinsic:\n      translation: [-0.2, 0, -0.5]\n"
+                         "      quaternion_xyzw: [0, 0, 0, 1]\n";
+  DaemonConfig given = LoadConfig(file).daemon;
+  ApplySensorMeta(meta, given);  // the YAML's extrinsic wins
+  EXPECT_NO_THROW(ValidateDaemonConfig(given));
+  EXPECT_EQ(given.topics.wheel_odometry, "my_wheels");
+  EXPECT_EQ(given.ros2.wheel_topic, "/base/odom");
+  EXPECT_EQ(given.wheel.time_offset, 0.01);
+  EXPECT_EQ(given.wheel.max_wait, 0.02);
+  EXPECT_EQ(given.wheel.max_speed, 3.0);
+  EXPECT_EQ(given.wheel.max_yaw_rate, 2.0);
+  EXPECT_TRUE(given.wheel.T_sensor_base.translation().isApprox(Eigen::Vector3d(-0.2, 0, -0.5)));
+  EXPECT_TRUE(given.wheel.extrinsic_known);
+
+  for (const auto& [yaml, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"  wheel:\n    enable: true\n", "'dammloamd.wheel.enable' is not a known key"},
+           {"  wheel:\n    time_offset: soon\n", "'dammloamd.wheel.time_offset' must be a number"},
+           {"  wheel:\n    time_offset: 2.0\n", "'dammloamd.wheel.time_offset' must be finite and smaller"},
+           {"  wheel:\n    max_wait: 5\n", "'dammloamd.wheel.max_wait' must be in [0, 1] s"},
+           {"  wheel:\n    max_clock_offset: 0\n", "'dammloamd.wheel.max_clock_offset' must be in (0, 10] s"},
+           {"  wheel:\n    max_speed: -1\n", "'dammloamd.wheel.max_speed' must be a positive number"},
+           {"  wheel:\n    max_yaw_rate: .nan\n", "'dammloamd.wheel.max_yaw_rate' must be a positive number"},
+           {"  wheel:\n    extrinsic:\n      translation: [0, 0]\n      quaternion_xyzw: [0, 0, 0, 1]\n",
+            "'dammloamd.wheel.extrinsic.translation' must have 3 values"},
+           {"  wheel:\n    extrinsic:\n      translation: [0, 0, 0]\n",
+            "'dammloamd.wheel.extrinsic' needs translation"},
+           {"  ros2:\n    wheel_topic: odom//raw\n", "dammloamd.ros2.wheel_topic"},
+           {"  ros2:\n    wheel_topic: /dammloam/odometry\n",
+            "'dammloamd.ros2.wheel_topic' ('/dammloam/odometry') must differ from odometry_topic"},
+           {"  topics:\n    wheel_odometry: \"\"\n", "'dammloamd.topics' names must not be empty"}}) {
+    EXPECT_NE(LoadError("dammloamd:\n" + yaml).find(expected), std::string::npos)
+        << yaml << " -> " << LoadError("dammloamd:\n" + yaml);
+  }
+}
+
 // --ouster-metadata: the imu_to_sensor_transform of real Ouster metadata (top level in firmware
 // 2.2, under imu_intrinsics in later files), millimetres to metres.
 TEST(DaemonConfig, OusterMetadataGivesTheImuExtrinsicInMetres) {

@@ -1,7 +1,7 @@
 // dammloamd, dammloam-replay and dammloam-record as separate processes on loopback DDS, each
 // test on its own domain: clean SIGTERM, refusal without CYCLONEDDS_URI, a replay killed and
 // restarted mid-stream, and the lock-step trajectory equal to the offline runner's, without and
-// with an IMU (issue 55).
+// with an IMU or wheel odometry (issue 55).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 
@@ -298,6 +298,103 @@ TEST_F(DaemonProcess, LockstepWithImuEqualsTheOfflineRunnerWithImu) {
              .angle()});
   }
   // The gyro drove the daemon's rotation: its poses are not the LiDAR's alone.
+  EXPECT_GT(from_lidar_only, 1e-4);
+}
+
+// A wheeled robot's run with its wheel.csv (issue 55) replayed in lock-step: dammloamd takes the
+// WheelOdometry topic and registers each scan with the samples dammloam-odometry uses (the base
+// extrinsic from meta.json through --sensor-meta), so its poses are the offline runner's with the
+// wheels, not those of --no-wheel; Status says every scan interval had the wheels.
+TEST_F(DaemonProcess, LockstepWithWheelsEqualsTheOfflineRunnerWithWheels) {
+  constexpr std::uint32_t kDomain = 166;
+  constexpr int kScans = 10;
+  if (!ToolExists("dammloam-odometry")) GTEST_SKIP() << "dammloam-odometry not built";
+  const test::TempDir dir("system-wheel-equivalence");
+  sim::SensorSpec spec = sim::Vlp16();
+  spec.columns = 900;
+  sim::SimOptions options;
+  options.num_scans = kScans;
+  options.motion = sim::MotionKind::Wheeled;
+  const sim::Simulator simulator(sim::SceneKind::Zigzag, spec, options);
+  // The simulator's wheels (1-2 % scale errors, slip in turns, noise) and only them: meta.json
+  // carries the base extrinsic (the ground under the sensor).
+  sim::InertialStreamOptions stream_options;
+  stream_options.no_imu = true;
+  const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kScans, stream_options);
+  ASSERT_TRUE(streams.wheel);
+  ASSERT_FALSE(streams.T_sensor_base.isApprox(Eigen::Isometry3d::Identity()));
+  io::SequenceMeta meta;
+  meta.sensor = "vlp-16-900";
+  meta.model = simulator.sensor_model();
+  sim::DescribeStreams(streams, &meta);
+  const auto seq = dir / "seq";
+  {
+    io::SequenceWriter writer(seq, meta, /*overwrite=*/true);
+    for (int i = 0; i < kScans; ++i) writer.Write(simulator.SimulateScan(i));
+  }
+  io::WriteWheelCsv(seq / "wheel.csv", *streams.wheel);
+
+  ChildProcess offline("dammloam-odometry",
+                       {seq.string(), "--out", (dir / "offline.tum").string(), "--no-loop-closure"},
+                       dir / "offline.log");
+  ChildProcess lidar_only("dammloam-odometry",
+                          {seq.string(), "--out", (dir / "lidar.tum").string(), "--quiet",
+                           "--no-loop-closure", "--no-wheel"},
+                          dir / "lidar.log");
+  ChildProcess daemon("dammloamd", DaemonArgs(kDomain, seq), dir / "daemon.log");
+  DdsTestClient client(kDomain);
+  ChildProcess record("dammloam-record",
+                      {"--domain", std::to_string(kDomain), "--poses", (dir / "dds.tum").string(),
+                       "--count", std::to_string(kScans), "--timeout", "120"},
+                      dir / "record.log");
+  ChildProcess replay("dammloam-replay",
+                      {seq.string(), "--domain", std::to_string(kDomain), "--lockstep",
+                       "--lockstep-timeout", "60", "--wait-subscriber", "30"},
+                      dir / "replay.log");
+  const auto replay_code = replay.Wait(milliseconds(300000));
+  ASSERT_TRUE(replay_code);
+  ASSERT_EQ(*replay_code, 0) << replay.Log() << daemon.Log();
+  const auto record_code = record.Wait(milliseconds(60000));
+  ASSERT_TRUE(record_code && *record_code == 0) << record.Log();
+  for (ChildProcess* run : {&offline, &lidar_only}) {
+    const auto code = run->Wait(milliseconds(300000));
+    ASSERT_TRUE(code && *code == 0) << run->Log();
+  }
+  EXPECT_NE(offline.Log().find("wheel odometry: used on 9 of 10 scans"), std::string::npos)
+      << offline.Log();
+  EXPECT_EQ(daemon.Log().find("assuming the base frame at the sensor"), std::string::npos)
+      << daemon.Log();
+  const auto counted = [&] {
+    return !client.statuses.empty() &&
+           client.statuses.back().scans_with_wheel + client.statuses.back().scans_without_wheel >=
+               static_cast<std::uint64_t>(kScans - 1);
+  };
+  ASSERT_TRUE(client.WaitUntil(counted, milliseconds(5000))) << daemon.Log();
+  const ReceivedStatus& status = client.statuses.back();
+  EXPECT_EQ(status.scans_with_wheel, static_cast<std::uint64_t>(kScans - 1)) << daemon.Log();
+  EXPECT_EQ(status.wheel_samples, streams.wheel->size());
+  EXPECT_EQ(status.wheel_samples_dropped, 0u);
+
+  const auto online_poses = io::ReadTum(dir / "dds.tum");
+  const auto offline_poses = io::ReadTum(dir / "offline.tum");
+  const auto lidar_poses = io::ReadTum(dir / "lidar.tum");
+  ASSERT_EQ(online_poses.size(), static_cast<std::size_t>(kScans));
+  ASSERT_EQ(offline_poses.size(), online_poses.size());
+  ASSERT_EQ(lidar_poses.size(), online_poses.size());
+  double from_lidar_only = 0.0;
+  for (std::size_t i = 0; i < online_poses.size(); ++i) {
+    EXPECT_NEAR(online_poses[i].t, offline_poses[i].t, 1e-6);
+    EXPECT_LT((online_poses[i].T.translation() - offline_poses[i].T.translation()).norm(), 1e-6)
+        << "scan " << i;
+    const Eigen::AngleAxisd dR(online_poses[i].T.rotation().transpose() *
+                               offline_poses[i].T.rotation());
+    EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
+    from_lidar_only = std::max(
+        {from_lidar_only, (online_poses[i].T.translation() - lidar_poses[i].T.translation()).norm(),
+         Eigen::AngleAxisd(online_poses[i].T.rotation().transpose() * lidar_poses[i].T.rotation())
+             .angle()});
+  }
+  // The wheels drove the daemon's translation: its poses are not the LiDAR's alone.
   EXPECT_GT(from_lidar_only, 1e-4);
 }
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/inertial/imu_horizon.hpp"
+#include "core/inertial/wheel_horizon.hpp"
 #include "io/bag/bag_reader.hpp"
 #include "io/bag/imu_messages.hpp"
 #include "io/motion_csv.hpp"
@@ -152,8 +153,7 @@ WheelFeed::WheelFeed(const InertialInput& input, Odometry& odometry) : odometry_
 
 void WheelFeed::Through(double t) {
   if (!samples_) return;
-  constexpr double kAhead = 0.04;  // s: two periods of a 50 Hz controller
-  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kAhead) {
+  while (next_ < samples_->size() && (*samples_)[next_].t <= t + kWheelLookAhead) {
     odometry_.AddWheel((*samples_)[next_++]);
   }
 }

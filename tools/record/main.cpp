@@ -72,7 +72,10 @@ nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
           {"scans_lost", s.scans_lost}, {"imu_samples", s.imu_samples},
           {"imu_samples_dropped", s.imu_samples_dropped}, {"scans_with_imu", s.scans_with_imu},
           {"scans_without_imu", s.scans_without_imu},
-          {"imu_by_reason", ReasonsJson(s.imu_by_reason)}};
+          {"imu_by_reason", ReasonsJson(s.imu_by_reason)}, {"wheel_samples", s.wheel_samples},
+          {"wheel_samples_dropped", s.wheel_samples_dropped},
+          {"scans_with_wheel", s.scans_with_wheel}, {"scans_without_wheel", s.scans_without_wheel},
+          {"wheel_by_reason", ReasonsJson(s.wheel_by_reason)}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "core/inertial/imu_horizon.hpp"
+#include "core/inertial/wheel_horizon.hpp"
 #include "tools/common/dds_tool_main.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/inertial_messages.hpp"
@@ -47,10 +48,11 @@ struct Options {
 };
 
 // The sequence's IMU and wheel samples, and where publishing has got to. Each scan is preceded
-// by every sample the odometry wants for it (up to its end + 20 ms, core/inertial/imu_horizon.hpp)
-// and the first IMU sample past that, which tells dammloamd that the scan's samples are complete:
-// in lock-step it then registers each scan with the samples dammloam-odometry would use (ahead
-// of real time by up to one scan period). IMU stamps go out as imu.csv has them, on the IMU's
+// by every sample the odometry wants for it (IMU up to its end + 20 ms, wheels up to its end +
+// 40 ms: core/inertial/imu_horizon.hpp, wheel_horizon.hpp) and the first sample of each stream
+// past that, which tells dammloamd that the scan's samples are complete: in lock-step it then
+// registers each scan with the samples dammloam-odometry would use (ahead of real time by up to
+// one scan period). IMU stamps go out as imu.csv has them, on the IMU's
 // clock, as a driver sends them: dammloamd subtracts the time offset (meta.json's
 // imu.time_offset_s, given to it by --sensor-meta).
 class InertialPublisher {
@@ -84,22 +86,25 @@ class InertialPublisher {
     while (imu_ && next_imu_ < imu_->size() && (*imu_)[next_imu_].t - time_offset_ < t) ++next_imu_;
     while (wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t < t) ++next_wheel_;
   }
-  // Publishes every sample stamped at or before `horizon` (LiDAR clock), and the first IMU
-  // sample after it.
-  void PublishThrough(double horizon) {
+  // Publishes every sample the scan starting at t_start wants (stamped at or before its
+  // horizon, LiDAR clock), and the first sample of each stream after it.
+  void PublishFor(double t_start, double period) {
+    const double imu_horizon = ImuHorizon(t_start, period);
     for (bool past = false; imu_ && next_imu_ < imu_->size() && !past; ++next_imu_) {
-      past = (*imu_)[next_imu_].t - time_offset_ > horizon;
+      past = (*imu_)[next_imu_].t - time_offset_ > imu_horizon;
       imu_writer_->Write(dds::ToImuMessage((*imu_)[next_imu_], noise_, rate_, imu_frame_, next_imu_));
     }
-    for (; wheel_ && next_wheel_ < wheel_->size() && (*wheel_)[next_wheel_].t <= horizon; ++next_wheel_) {
+    const double wheel_horizon = WheelHorizon(t_start, period);
+    for (bool past = false; wheel_ && next_wheel_ < wheel_->size() && !past; ++next_wheel_) {
+      past = (*wheel_)[next_wheel_].t > wheel_horizon;
       // The simulator's wheel noise (tools/simulate/wheel_model.hpp); real odometry brings its own.
       wheel_writer_->Write(
           dds::ToWheelMessage((*wheel_)[next_wheel_], 0.01, 0.005, base_frame_, next_wheel_));
     }
   }
   // A volatile sample written before a reader matched is lost: give subscribers of the
-  // streams time to appear, once, after dammloamd's cloud reader did (dammloamd's IMU reader
-  // is created with it; nothing subscribes to the wheel odometry yet).
+  // streams time to appear, once, after dammloamd's cloud reader did (dammloamd's IMU and wheel
+  // readers are created with it).
   void WaitForReaders(std::chrono::milliseconds timeout) const {
     if (imu_writer_ && !imu_writer_->WaitForReaders(1, timeout)) {
       spdlog::info("no subscriber on '{}' yet: publishing the IMU samples anyway", imu_writer_->topic_name());
@@ -181,7 +186,7 @@ class CloudPublisher {
     first_time_ = first_time;
   }
   // At the scan's recorded instant (or after the last pose, lock-step): false after an error.
-  // `before_write` runs just before the cloud goes out (the IMU samples that cover it).
+  // `before_write` runs just before the cloud goes out (the IMU and wheel samples that cover it).
   template <typename BeforeWrite>
   bool Publish(const Scan& scan, std::size_t index, BeforeWrite&& before_write) {
     const dds::CloudMessage cloud = dds::ScanToCloud(scan, o_.frame_id, index);
@@ -248,7 +253,7 @@ int RunSequence(const Options& o) {
   publisher.Start(sequence.times()[o.start_index]);
   for (std::size_t k = o.start_index; k < end; ++k) {
     const Scan scan = sequence.ReadScan(k);
-    if (!publisher.Publish(scan, k, [&] { inertial.PublishThrough(ImuHorizon(scan.t_start, period)); })) return 4;
+    if (!publisher.Publish(scan, k, [&] { inertial.PublishFor(scan.t_start, period); })) return 4;
   }
   inertial.WaitForAcks();
   publisher.Finish(end - o.start_index);
