@@ -181,7 +181,7 @@ class Odometry {
   // Counts a lost scan; true once config_.health says the map is to be started over.
   bool StartOverAfterLoss();
   void Restart(Frame& frame);
-  RegistrationResult RedeskewAndRegister(Frame& frame, const RegistrationResult& first, double dt);
+  RegistrationResult RedeskewAndRegister(Frame& frame, const Eigen::Isometry3d& T_measured, double dt);
   Eigen::Isometry3d StartPose(const Frame& frame, const Eigen::Isometry3d& T_mid,
                               bool first) const;
   static double Deviation(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T);

@@ -22,6 +22,17 @@ namespace {
 
 using std::chrono::milliseconds;
 
+// The daemon's poses are the offline runner's: same stamps, within 1e-6 m and 1e-6 rad.
+void ExpectSamePoses(const std::vector<io::StampedPose>& online, const std::vector<io::StampedPose>& offline) {
+  ASSERT_EQ(offline.size(), online.size());
+  for (std::size_t i = 0; i < online.size(); ++i) {
+    EXPECT_NEAR(online[i].t, offline[i].t, 1e-6);
+    EXPECT_LT((online[i].T.translation() - offline[i].T.translation()).norm(), 1e-6) << "scan " << i;
+    const Eigen::AngleAxisd dR(online[i].T.rotation().transpose() * offline[i].T.rotation());
+    EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
+  }
+}
+
 std::vector<std::string> DaemonArgs(std::uint32_t domain, const std::filesystem::path& seq) {
   return {"--domain", std::to_string(domain), "--sensor-meta", (seq / "meta.json").string(),
           "--no-loop-closure"};
@@ -167,15 +178,7 @@ TEST_F(DaemonProcess, LockstepTrajectoryOverDdsEqualsTheOfflineRunner) {
   const auto online_poses = io::ReadTum(dir / "dds.tum");
   const auto offline_poses = io::ReadTum(dir / "offline.tum");
   ASSERT_EQ(online_poses.size(), static_cast<std::size_t>(kScans));
-  ASSERT_EQ(offline_poses.size(), online_poses.size());
-  for (std::size_t i = 0; i < online_poses.size(); ++i) {
-    EXPECT_NEAR(online_poses[i].t, offline_poses[i].t, 1e-6);
-    EXPECT_LT((online_poses[i].T.translation() - offline_poses[i].T.translation()).norm(), 1e-6)
-        << "scan " << i;
-    const Eigen::AngleAxisd dR(online_poses[i].T.rotation().transpose() *
-                               offline_poses[i].T.rotation());
-    EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
-  }
+  ExpectSamePoses(online_poses, offline_poses);
 
   // dammloam-record --mcap, read back by @mcap/core (an independent reader): the same poses as
   // ROS 2 messages, their transforms, the labelled clouds and the daemon's status.
@@ -284,14 +287,9 @@ TEST_F(DaemonProcess, LockstepWithImuEqualsTheOfflineRunnerWithImu) {
   ASSERT_EQ(online_poses.size(), static_cast<std::size_t>(kScans));
   ASSERT_EQ(offline_poses.size(), online_poses.size());
   ASSERT_EQ(lidar_poses.size(), online_poses.size());
+  ExpectSamePoses(online_poses, offline_poses);
   double from_lidar_only = 0.0;
   for (std::size_t i = 0; i < online_poses.size(); ++i) {
-    EXPECT_NEAR(online_poses[i].t, offline_poses[i].t, 1e-6);
-    EXPECT_LT((online_poses[i].T.translation() - offline_poses[i].T.translation()).norm(), 1e-6)
-        << "scan " << i;
-    const Eigen::AngleAxisd dR(online_poses[i].T.rotation().transpose() *
-                               offline_poses[i].T.rotation());
-    EXPECT_LT(std::abs(dR.angle()), 1e-6) << "scan " << i;
     from_lidar_only = std::max(
         {from_lidar_only, (online_poses[i].T.translation() - lidar_poses[i].T.translation()).norm(),
          Eigen::AngleAxisd(online_poses[i].T.rotation().transpose() * lidar_poses[i].T.rotation())

@@ -12,10 +12,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -43,19 +46,56 @@ using bench::Percentiles;
 // ---------------------------------------------------------------------------------------------
 // Command line
 
+// How a runner is called and how it reports its times.
+enum class PeerStyle {
+  // `RUNNER SEQ --out poses.tum --timing timing.csv --quiet [ARGS]`: one ms value per scan in
+  // timing.csv.
+  kBench,
+  // The runners of ../shared/peers (kiss_run, genz_run): `RUNNER SEQ_DIR OUT.tum [ARGS]`, every
+  // scan's ms in the file named by $ANCHOR_TIMES_OUT and one line
+  // `[tag] scans=N per-scan time (ms): mean=X median=Y` on stdout.
+  kAnchor,
+};
+
+const char* PeerStyleName(PeerStyle style) { return style == PeerStyle::kAnchor ? "anchor" : "bench"; }
+
 struct Peer {
   std::string name;
   std::string path;
+  PeerStyle style = PeerStyle::kBench;
+  bool style_detected = false;    // from the runner's file name, not named in the spec
   std::vector<std::string> args;  // appended after the fixed command line
+  std::optional<double> offset_s;  // --peer-offset; otherwise PeerOffset's default
 };
 
-// "NAME=PATH" or "NAME=PATH:ARG1,ARG2".
+bool HasArg(const Peer& peer, const std::string& arg) {
+  return std::find(peer.args.begin(), peer.args.end(), arg) != peer.args.end();
+}
+
+// The shared runners are known by their file names; anything else is taken for a bench runner
+// (an anchor runner called as a bench one only prints its usage, which said "no result" before).
+PeerStyle DetectPeerStyle(const std::string& path) {
+  const std::string file = fs::path(path).filename().string();
+  return file == "kiss_run" || file == "genz_run" ? PeerStyle::kAnchor : PeerStyle::kBench;
+}
+
+// "NAME=[STYLE:]PATH[:ARG,ARG...]", STYLE "anchor" or "bench"; without it, DetectPeerStyle.
 std::optional<Peer> ParsePeer(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) return std::nullopt;
   Peer peer;
   peer.name = text.substr(0, eq);
   std::string rest = text.substr(eq + 1);
+  peer.style_detected = true;
+  for (const PeerStyle style : {PeerStyle::kAnchor, PeerStyle::kBench}) {
+    const std::string prefix = std::string(PeerStyleName(style)) + ":";
+    if (rest.compare(0, prefix.size(), prefix) == 0) {
+      peer.style = style;
+      peer.style_detected = false;
+      rest = rest.substr(prefix.size());
+      break;
+    }
+  }
   const auto colon = rest.find(':');
   peer.path = rest.substr(0, colon);
   if (colon != std::string::npos) {
@@ -65,7 +105,48 @@ std::optional<Peer> ParsePeer(const std::string& text) {
     }
   }
   if (peer.path.empty()) return std::nullopt;
+  if (peer.style_detected) peer.style = DetectPeerStyle(peer.path);
   return peer;
+}
+
+// When within a scan the runner's pose is, as seconds after the scan-start stamp it writes. The
+// truth is taken at stamp + offset. KISS-ICP deskews every point to the scan's END and reports
+// that pose at the start stamp (../shared/peers/README.md); GenZ-ICP (deskew off, or deskewed to
+// 0.5) and KISS-ICP without deskew fit the scan as a whole: about mid-scan. Unknown runners: 0.
+double PeerOffset(const Peer& peer, double scan_period) {
+  if (peer.offset_s) return *peer.offset_s;
+  const std::string file = fs::path(peer.path).filename().string();
+  if (file == "kiss_run") return HasArg(peer, "--no-deskew") ? 0.5 * scan_period : scan_period;
+  if (file == "genz_run") return 0.5 * scan_period;
+  return 0.0;
+}
+
+// PeerOffset in words, for the run's header.
+std::string PeerOffsetText(const Peer& peer) {
+  if (peer.offset_s) return std::to_string(*peer.offset_s) + " s (--peer-offset)";
+  const std::string file = fs::path(peer.path).filename().string();
+  if (file == "kiss_run" && !HasArg(peer, "--no-deskew")) {
+    return "1 scan period (KISS-ICP's pose is the sensor's at the scan's end)";
+  }
+  if (file == "kiss_run" || file == "genz_run") return "0.5 scan period (the pose of the scan as a whole: mid-scan)";
+  return "0 s (scan start; --peer-offset NAME=SECONDS to change)";
+}
+
+// "NAME=SECONDS" of --peer-offset.
+bool ParsePeerOffset(const std::string& text, std::vector<Peer>& peers) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
+  char* end = nullptr;
+  const double seconds = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(seconds)) return false;
+  for (Peer& p : peers) {
+    if (p.name == name) {
+      p.offset_s = seconds;
+      return true;
+    }
+  }
+  return false;
 }
 
 struct Options {
@@ -79,6 +160,7 @@ struct Options {
   std::uint64_t seed = 1;
   std::optional<int> scans;
   std::vector<std::string> peer_specs;
+  std::vector<std::string> peer_offset_specs;
   std::vector<Peer> peers;
   std::string cache_dir;
   std::string json_path;
@@ -120,6 +202,7 @@ struct Row {
   std::string name;
   bool peer = false;
   std::vector<SeedResult> seeds;
+  double offset_s = 0.0;  // peers: their stamps + offset_s are paired with the truth (PeerOffset)
 };
 
 struct GroupResult {
@@ -235,69 +318,162 @@ SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const 
 // ---------------------------------------------------------------------------------------------
 // Peers
 
-// Runs argv with stdout and stderr to `log`; returns the exit code (-1: not started / signal).
-int RunProcess(const std::vector<std::string>& argv, const fs::path& log) {
+// Runs argv with stdout and stderr to `log` and `env` ("KEY=VALUE") added to this process's
+// environment. Returns the exit code; throws, saying why, when there is none.
+int RunProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+               const fs::path& log) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  std::vector<char*> envp;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry = *e;
+    const bool replaced = std::any_of(env.begin(), env.end(), [&](const std::string& kv) {
+      return entry.compare(0, kv.find('=') + 1, kv, 0, kv.find('=') + 1) == 0;
+    });
+    if (!replaced) envp.push_back(*e);
+  }
+  for (const std::string& kv : env) envp.push_back(const_cast<char*>(kv.c_str()));
+  envp.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = 0;
-  const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) return -1;
+  if (err != 0) throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
+    if (errno != EINTR) throw std::runtime_error("lost " + argv[0] + ": " + std::strerror(errno));
   }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (WIFSIGNALED(status)) {
+    throw std::runtime_error(argv[0] + " was killed by signal " + std::to_string(WTERMSIG(status)));
+  }
+  return WEXITSTATUS(status);
 }
 
-std::vector<double> ReadTimingCsv(const fs::path& file) {
+// One ms value per line; blank lines and headers are skipped. `what` names the file's role in
+// the error, so that an empty file says which output the runner did not give.
+std::vector<double> ReadTimes(const fs::path& file, const std::string& what) {
   std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  if (!in) throw std::runtime_error("no per-scan times: " + what + " " + file.string() + " was not written");
   std::vector<double> ms;
   for (std::string line; std::getline(in, line);) {
     char* end = nullptr;
     const double v = std::strtod(line.c_str(), &end);
-    if (end != line.c_str()) ms.push_back(v);  // blank lines and headers are skipped
+    if (end != line.c_str()) ms.push_back(v);
+  }
+  if (ms.empty()) throw std::runtime_error("no per-scan times: " + what + " " + file.string() + " is empty");
+  return ms;
+}
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The end of a runner's output for an error message, or a note that there was none.
+std::string Tail(const fs::path& file, std::size_t max_chars = 600) {
+  std::string s = ReadText(file);
+  const auto last = s.find_last_not_of(" \t\r\n");
+  if (last == std::string::npos) return "(it printed nothing)";
+  s.erase(last + 1);
+  return "output: " + (s.size() > max_chars ? "..." + s.substr(s.size() - max_chars) : s);
+}
+
+// The scan count of an anchor runner's summary line "[tag] scans=N per-scan time (ms): ...".
+std::optional<std::size_t> AnchorScans(const std::string& output) {
+  const auto at = output.find("] scans=");
+  if (at == std::string::npos || output.find("per-scan time (ms)", at) == std::string::npos) return std::nullopt;
+  return std::strtoull(output.c_str() + at + 8, nullptr, 10);
+}
+
+// What a peer run leaves in the work directory.
+struct PeerFiles {
+  fs::path poses, times, log;
+};
+
+std::vector<std::string> PeerArgv(const Peer& peer, const fs::path& sequence, const PeerFiles& f) {
+  std::vector<std::string> argv{peer.path, sequence.string(), f.poses.string()};
+  if (peer.style == PeerStyle::kBench) {
+    argv = {peer.path, sequence.string(), "--out", f.poses.string(), "--timing", f.times.string(), "--quiet"};
+  }
+  argv.insert(argv.end(), peer.args.begin(), peer.args.end());
+  return argv;
+}
+
+// The runner's per-scan times, checked against its own summary (anchor) and its pose count.
+std::vector<double> PeerTimes(const Peer& peer, const PeerFiles& f, std::size_t poses) {
+  std::vector<double> ms;
+  if (peer.style == PeerStyle::kAnchor) {
+    const auto scans = AnchorScans(ReadText(f.log));
+    if (!scans) {
+      throw std::runtime_error("no '[tag] scans=N per-scan time (ms): ...' line, as the runners of "
+                               "../shared/peers print: is it one? " + Tail(f.log));
+    }
+    ms = ReadTimes(f.times, "ANCHOR_TIMES_OUT");
+    if (ms.size() != *scans) {
+      throw std::runtime_error("it says scans=" + std::to_string(*scans) + " but wrote " +
+                               std::to_string(ms.size()) + " times to ANCHOR_TIMES_OUT");
+    }
+  } else {
+    ms = ReadTimes(f.times, "--timing");
+  }
+  if (ms.size() != poses) {
+    throw std::runtime_error(std::to_string(poses) + " poses but " + std::to_string(ms.size()) + " per-scan times");
   }
   return ms;
 }
 
-std::string Tail(const fs::path& file, std::size_t max_chars = 600) {
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string s = ss.str();
-  return s.size() > max_chars ? "..." + s.substr(s.size() - max_chars) : s;
+// A shared runner called in the bench convention takes "--out" for its output file and the
+// poses' path for an unknown option (or prints its usage): say which convention it wants.
+std::string StyleHint(const Peer& peer, const PeerFiles& f) {
+  const std::string output = ReadText(f.log);
+  if (peer.style == PeerStyle::kBench && (output.find("unknown option " + f.poses.string()) != std::string::npos ||
+                                          output.find("SEQ_DIR OUT.tum") != std::string::npos)) {
+    return " (it reads `RUNNER SEQ_DIR OUT.tum`, the ../shared/peers convention: give --peer " + peer.name +
+           "=anchor:" + peer.path + ")";
+  }
+  return "";
 }
 
-SeedResult RunPeer(const Peer& peer, std::uint64_t seed, const fs::path& sequence,
-                   const std::vector<io::StampedPose>& ground_truth, const fs::path& work) {
+// The truth at any time of the run (the simulator's trajectory): the peers' poses are taken at
+// their stamps plus an offset, between the scan starts of gt.tum.
+using TruthAt = std::function<Eigen::Isometry3d(double)>;
+
+SeedResult RunPeer(const Peer& peer, std::uint64_t seed, const fs::path& sequence, const TruthAt& truth_at,
+                   double offset_s, const fs::path& work) {
   SeedResult r;
   r.seed = seed;
-  const fs::path poses = work / (peer.name + ".tum");
-  const fs::path timing = work / (peer.name + ".timing.csv");
-  const fs::path log = work / (peer.name + ".log");
-  std::vector<std::string> argv{peer.path, sequence.string(), "--out", poses.string(),
-                                "--timing", timing.string(), "--quiet"};
-  argv.insert(argv.end(), peer.args.begin(), peer.args.end());
-  const int code = RunProcess(argv, log);
+  const PeerFiles f{work / (peer.name + ".tum"), work / (peer.name + ".times.txt"), work / (peer.name + ".log")};
+  std::error_code ec;
+  fs::remove(f.poses, ec);  // a file left by the seed before must not pass for this one's
+  fs::remove(f.times, ec);
   try {
+    const std::vector<std::string> env{"ANCHOR_TIMES_OUT=" + f.times.string()};
+    const int code = RunProcess(PeerArgv(peer, sequence, f), env, f.log);
     if (code != 0) {
-      throw std::runtime_error("exit code " + std::to_string(code) + ": " + Tail(log));
+      throw std::runtime_error("exit code " + std::to_string(code) + StyleHint(peer, f) + "; " + Tail(f.log));
     }
-    const std::vector<io::StampedPose> estimate = io::ReadTum(poses);
+    if (!fs::exists(f.poses) || fs::file_size(f.poses) == 0) {
+      throw std::runtime_error("no poses in " + f.poses.string() + "; " + Tail(f.log));
+    }
+    std::vector<io::StampedPose> estimate = io::ReadTum(f.poses);
+    r.total_ms = PeerTimes(peer, f, estimate.size());
+    std::vector<io::StampedPose> truth;
+    for (io::StampedPose& p : estimate) {
+      p.t += offset_s;
+      truth.push_back({p.t, truth_at(p.t)});
+    }
     r.scans = estimate.size();
     r.registered = estimate.size();
-    r.errors = bench::EvaluateEstimate(ground_truth, estimate);
-    r.total_ms = ReadTimingCsv(timing);
+    r.errors = bench::EvaluateEstimate(truth, estimate);
   } catch (const std::exception& e) {
     r.failure = e.what();
-    std::fprintf(stderr, "warning: peer %s, seed %llu: %s\n", peer.name.c_str(),
+    std::fprintf(stderr, "warning: peer %s (%s), seed %llu: %s\n", peer.name.c_str(), peer.path.c_str(),
                  static_cast<unsigned long long>(seed), r.failure.c_str());
   }
   return r;
@@ -441,11 +617,15 @@ GroupResult RunGroup(const Options& o, const Group& g, const std::vector<Odometr
       if (o.per_scan) PrintPerScan(stream, traces[m]);
       result.rows[m].seeds.push_back(FromTrace(seed, stream, traces[m]));
     }
+    // A cached sequence was read without a simulator: its truth comes from the same one.
+    if (!o.peers.empty() && !simulator) simulator = MakeSimulator(g, seed);
+    const TruthAt truth_at = [&simulator](double t) { return simulator->PoseAt(t); };
     for (std::size_t p = 0; p < o.peers.size(); ++p) {
+      Row& row = result.rows[traces.size() + p];
+      row.offset_s = PeerOffset(o.peers[p], stream.model.scan_period);
       if (!o.quiet) std::fprintf(stderr, "  running peer %s on seed %llu\n", o.peers[p].name.c_str(),
                                  static_cast<unsigned long long>(seed));
-      result.rows[traces.size() + p].seeds.push_back(
-          RunPeer(o.peers[p], seed, sequence_dir, stream.ground_truth, work->path()));
+      row.seeds.push_back(RunPeer(o.peers[p], seed, sequence_dir, truth_at, row.offset_s, work->path()));
     }
   }
   result.sim_ms_per_scan = Median(sim_ms);
@@ -490,6 +670,24 @@ void PrintMovingLabels(const Aggregate& a) {
               m.mismatched_scans ? ", some scans not scored" : "");
 }
 
+// "kiss +0.100s": a peer's row names the time offset its poses were evaluated at.
+std::string PeerLabel(const Row& row) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s %+.3fs", row.name.c_str(), row.offset_s);
+  return buf;
+}
+
+// The first seed's failure, on one line: a row without a result says why where it is read.
+std::string FirstFailure(const Row& row) {
+  for (const SeedResult& s : row.seeds) {
+    if (s.failure.empty()) continue;
+    std::string line = "seed " + std::to_string(s.seed) + ": " + s.failure;
+    std::replace(line.begin(), line.end(), '\n', ' ');
+    return line;
+  }
+  return "no seed ran";
+}
+
 void PrintGroup(const Options& o, const GroupResult& r) {
   const Group& g = r.group;
   std::printf("\n%s / %s: %d scans x seeds %s (%s %.1f ms/scan), RSS at end %.0f MiB (peak %.0f), all modes\n",
@@ -514,9 +712,9 @@ void PrintGroup(const Options& o, const GroupResult& r) {
   }
   for (const Row& row : r.rows) {
     const Aggregate a = Summarise(row);
-    const std::string name = row.peer ? row.name + " (peer)" : row.name;
+    const std::string name = row.peer ? PeerLabel(row) : row.name;
     if (a.seeds == 0) {
-      std::printf("  %-22s no result (see warnings)\n", name.c_str());
+      std::printf("  %-22s no result: %s\n", name.c_str(), FirstFailure(row).c_str());
       continue;
     }
     char spread[32], worst[32];
@@ -540,6 +738,10 @@ void PrintGroup(const Options& o, const GroupResult& r) {
                   Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
       if (a.has_truth) PrintMovingLabels(a);
     }
+  }
+  if (!o.peers.empty()) {
+    std::printf("  peers: APE of their poses at stamp + the offset in their row, against the simulator's "
+                "truth at that time; ms: their own per-scan times\n");
   }
   std::fflush(stdout);
 }
@@ -612,6 +814,7 @@ nlohmann::json ToJson(const GroupResult& r, const Options& o) {
                             {"unscored_scans", m.mismatched_scans}};
     }
     if (row.peer) {
+      e["time_offset_s"] = row.offset_s;
       if (full_ms && a.total.median > 0) e["full_over_peer_ms"] = *full_ms / a.total.median;
     } else {
       e["ms"]["features"] = ToJson(a.features);
@@ -647,6 +850,16 @@ std::string ListText(const std::vector<std::string>& v) {
   return s;
 }
 
+// How a peer is called and evaluated, printed before anything runs.
+void PrintPeerSetup(const Peer& p) {
+  std::string command = p.path + (p.style == PeerStyle::kAnchor ? " SEQ_DIR OUT.tum"
+                                                                 : " SEQ --out poses.tum --timing timing.csv --quiet");
+  for (const std::string& a : p.args) command += " " + a;
+  std::printf("peer %s: `%s` (%s runner%s; per-scan times from %s); poses at stamp + %s\n", p.name.c_str(),
+              command.c_str(), PeerStyleName(p.style), p.style_detected ? ", by its file name" : "",
+              p.style == PeerStyle::kAnchor ? "$ANCHOR_TIMES_OUT" : "--timing", PeerOffsetText(p).c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -667,12 +880,20 @@ int main(int argc, char** argv) {
       "pooled over all scans of all seeds), "
       "degenerate share. RSS is the whole process's VmRSS after the last scan, all modes' pipelines "
       "alive (max over seeds), and its peak VmHWM.\n\n"
-      "Peers: --peer NAME=PATH runs `PATH SEQ_DIR --out poses.tum --timing timing.csv --quiet` on "
-      "the same sequence written to disk (a temporary directory, or --cache-dir); timing.csv holds "
-      "one ms value per scan. Extra arguments follow a colon, comma separated: "
-      "--peer genz-nodeskew=/tmp/peers/bin/genz-runner:--no-deskew. Peers read float32 points, "
-      "as any sequence reader does. On disk a scan takes ~0.7 MB (VLP-16) to ~1.5 MB (OS1-64): a "
-      "temporary sequence is removed after its peers ran, --cache-dir keeps them all.\n\n"
+      "Peers: --peer NAME=[STYLE:]PATH[:ARG,ARG...] runs a peer odometry on the same sequence "
+      "written to disk (a temporary directory, or --cache-dir) after the modes. STYLE anchor: "
+      "`PATH SEQ_DIR OUT.tum ARGS`, the runners of ../shared/peers (kiss_run, genz_run): per-scan "
+      "times from the file named by $ANCHOR_TIMES_OUT, checked against their `[tag] scans=N "
+      "per-scan time (ms)` line. STYLE bench: `PATH SEQ --out poses.tum --timing timing.csv --quiet "
+      "ARGS`, timing.csv one ms value per scan. Without STYLE a runner named kiss_run or genz_run is "
+      "anchor, any other bench. Extra arguments follow a colon, comma separated: "
+      "--peer kiss=/tmp/peers/bin/kiss_run --peer genz=/tmp/peers/bin/genz_run:--deskew. "
+      "A peer's poses are evaluated at stamp + an offset against the simulator's truth at that time: "
+      "kiss_run 1 scan period (it reports the pose at the scan's end, 0.5 with --no-deskew), genz_run "
+      "0.5 (mid-scan), others 0; --peer-offset NAME=SECONDS sets it. The offset is in the peer's row. "
+      "A peer that gives no result (missing, failing, printing nothing) says why in its row and the "
+      "bench exits with 1. On disk a scan takes ~0.7 MB (VLP-16) to ~1.5 MB (OS1-64): a temporary "
+      "sequence is removed after its peers ran, --cache-dir keeps them all.\n\n"
       "Legacy: --scenes NAME,... runs the constant-speed scenes with --scans scans (default 100) "
       "and seed --seed (default 1) instead of the presets.");
   auto* presets_opt = app.add_option("--presets", o.presets, "realistic presets, comma separated")
@@ -689,7 +910,10 @@ int main(int argc, char** argv) {
                  "scans per run (presets: the first N of the walk, default the whole walk; "
                  "scenes: default 100)")
       ->check(CLI::Range(3, 100000));
-  app.add_option("--peer", o.peer_specs, "peer runner NAME=PATH[:ARG,ARG...] (repeatable)");
+  app.add_option("--peer", o.peer_specs, "peer runner NAME=[anchor:|bench:]PATH[:ARG,ARG...] (repeatable)");
+  app.add_option("--peer-offset", o.peer_offset_specs,
+                 "NAME=SECONDS: the peer's poses are evaluated at stamp + SECONDS (repeatable; default "
+                 "per runner, see below)");
   app.add_option("--cache-dir", o.cache_dir,
                  "keep simulated sequences here (sequence directory format) and reuse them");
   app.add_option("--json", o.json_path, "write all numbers to this JSON file (after every group)");
@@ -716,11 +940,19 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (access(peer->path.c_str(), X_OK) != 0) {
-      std::fprintf(stderr, "error: --peer %s: '%s' is not an executable\n", peer->name.c_str(),
-                   peer->path.c_str());
+      std::fprintf(stderr, "error: --peer %s: '%s' is not an executable (%s)%s\n", peer->name.c_str(),
+                   peer->path.c_str(), std::strerror(errno),
+                   peer->style == PeerStyle::kAnchor ? "; ../shared/peers/build.sh builds kiss_run and genz_run" : "");
       return 2;
     }
     o.peers.push_back(*peer);
+  }
+  for (const std::string& spec : o.peer_offset_specs) {
+    if (!ParsePeerOffset(spec, o.peers)) {
+      std::fprintf(stderr, "error: --peer-offset '%s': expected NAME=SECONDS with NAME one of the --peer names\n",
+                   spec.c_str());
+      return 2;
+    }
   }
 
   OdometryConfig base_config;
@@ -799,8 +1031,12 @@ int main(int argc, char** argv) {
   }
 
   nlohmann::json report{{"modes", o.modes}, {"seeds", o.seeds}, {"groups", nlohmann::json::array()}};
-  for (const Peer& p : o.peers) report["peers"].push_back({{"name", p.name}, {"path", p.path}, {"args", p.args}});
+  for (const Peer& p : o.peers) {
+    report["peers"].push_back({{"name", p.name}, {"path", p.path}, {"style", PeerStyleName(p.style)}, {"args", p.args}});
+    PrintPeerSetup(p);
+  }
   const auto start = std::chrono::steady_clock::now();
+  int peer_failures = 0;  // a column without numbers must not pass for a measured one
   for (const Group& g : groups) {
     GroupResult result;
     try {
@@ -810,6 +1046,9 @@ int main(int argc, char** argv) {
       return 1;
     }
     PrintGroup(o, result);
+    for (const Row& row : result.rows) {
+      for (const SeedResult& seed : row.seeds) peer_failures += row.peer && !seed.failure.empty();
+    }
     report["groups"].push_back(ToJson(result, o));
     if (!o.json_path.empty() && !WriteJson(o.json_path, report)) {
       std::fprintf(stderr, "error: cannot write %s\n", o.json_path.c_str());
@@ -818,5 +1057,9 @@ int main(int argc, char** argv) {
   }
   std::printf("\nwall time %.0f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (peer_failures > 0) {
+    std::fprintf(stderr, "error: %d peer run(s) gave no result (the reasons are in their rows)\n", peer_failures);
+    return 1;
+  }
   return 0;
 }
