@@ -1,5 +1,6 @@
 // Imu and WheelOdometry samples (issue 55) <-> ImuSample / WheelSample: values and stamps come
-// back exact (stamps to the nanosecond), covariances are the per-sample white noise.
+// back exact (stamps to the nanosecond), covariances are the per-sample white noise; ROS 2
+// nav_msgs/Odometry -> WheelSample.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -43,6 +44,22 @@ TEST(InertialMessages, WheelRoundTripMarksTheUnmeasuredComponents) {
   EXPECT_DOUBLE_EQ(m.covariance[35], 2.5e-5);
   for (const int unmeasured : {7, 14, 21, 28}) EXPECT_GE(m.covariance[unmeasured], 1e6);
   EXPECT_DOUBLE_EQ(m.covariance[1], 0.0);
+}
+
+// A wheel controller's nav_msgs/Odometry (diff_drive_controller's /odom): its stamp and twist,
+// never the pose it integrated.
+TEST(InertialMessages, Ros2OdometryGivesItsTwistNotItsPose) {
+  nav_msgs_msg_dds__Odometry_ m{};
+  m.header.stamp.sec = 1700000000;
+  m.header.stamp.nanosec = 250000000;
+  m.pose.pose.position = {4.0, 5.0, 6.0};
+  m.pose.pose.orientation.w = 1.0;
+  m.twist.twist.linear = {0.8, 0.01, 0.0};
+  m.twist.twist.angular = {0.0, 0.0, -0.3};
+  const WheelSample s = FromRos2WheelOdometry(m);
+  EXPECT_DOUBLE_EQ(s.t, 1700000000.25);
+  EXPECT_EQ(s.linear_velocity, Eigen::Vector3d(0.8, 0.01, 0.0));
+  EXPECT_EQ(s.angular_velocity, Eigen::Vector3d(0.0, 0.0, -0.3));
 }
 
 }  // namespace
