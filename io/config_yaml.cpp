@@ -145,6 +145,7 @@ void ReadCompactObjects(Section s, CompactObjectsConfig& c) {
   s.Get("ground_reach", c.ground_reach);
   s.Get("weak_axis_ratio", c.weak_axis_ratio);
   s.Get("witness_share", c.witness_share);
+  s.Get("map_after", c.map_after);
   s.RejectUnknownKeys();
 }
 
@@ -339,6 +340,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(co.weak_axis_ratio >= 0.0 && co.weak_axis_ratio <= 1.0, "compact_objects.weak_axis_ratio",
           "must be in [0, 1]");
   Require(co.witness_share >= 0.0, "compact_objects.witness_share", "must be >= 0");
+  Require(co.map_after >= 0.0 && std::isfinite(co.map_after), "compact_objects.map_after",
+          "must be a finite number of seconds >= 0");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
   Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");

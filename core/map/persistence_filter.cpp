@@ -19,8 +19,16 @@ std::size_t PersistenceFilter::NumVoxels() const {
 std::vector<std::uint8_t> PersistenceFilter::Observe(const std::vector<Eigen::Vector3d>& points_world,
                                                      const Eigen::Vector3d& sensor_world,
                                                      double stamp) {
+  const std::vector<double> age = ObservedFor(points_world, sensor_world, stamp);
+  std::vector<std::uint8_t> persistent(age.size(), 0);
+  for (std::size_t i = 0; i < age.size(); ++i) persistent[i] = age[i] >= config_.min_age - 1e-9 ? 1 : 0;
+  return persistent;
+}
+
+std::vector<double> PersistenceFilter::ObservedFor(const std::vector<Eigen::Vector3d>& points_world,
+                                                  const Eigen::Vector3d& sensor_world, double stamp) {
   Forget(stamp);
-  std::vector<std::uint8_t> persistent(points_world.size(), 0);
+  std::vector<double> age(points_world.size(), 0.0);
   for (std::size_t i = 0; i < points_world.size(); ++i) {
     const int level = LevelOf((points_world[i] - sensor_world).norm());
     const double size = std::ldexp(config_.voxel_size, level);
@@ -28,9 +36,9 @@ std::vector<std::uint8_t> PersistenceFilter::Observe(const std::vector<Eigen::Ve
     Seen& seen = it.value();
     if (stamp - seen.last > config_.max_gap) seen.first = stamp;  // lapsed: starts over
     seen.last = stamp;
-    persistent[i] = stamp - seen.first >= config_.min_age - 1e-9 ? 1 : 0;
+    age[i] = stamp - seen.first;
   }
-  return persistent;
+  return age;
 }
 
 void PersistenceFilter::Accept(const std::vector<Eigen::Vector3d>& points_world,

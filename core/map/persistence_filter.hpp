@@ -31,6 +31,10 @@ class PersistenceFilter {
   // voxel is persistent. Stamps must not decrease.
   std::vector<std::uint8_t> Observe(const std::vector<Eigen::Vector3d>& points_world,
                                     const Eigen::Vector3d& sensor_world, double stamp);
+  // As Observe, but per point the seconds its voxel has been observed without a lapse, for
+  // callers that ask some points to wait longer than min_age.
+  std::vector<double> ObservedFor(const std::vector<Eigen::Vector3d>& points_world,
+                                 const Eigen::Vector3d& sensor_world, double stamp);
   // The points' voxels count as persistent from now on (the first scan: there is nothing to
   // wait for, and registration needs a map).
   void Accept(const std::vector<Eigen::Vector3d>& points_world, const Eigen::Vector3d& sensor_world,

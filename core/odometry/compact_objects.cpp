@@ -179,8 +179,31 @@ Eigen::Matrix3d Information(const std::vector<Eigen::Vector3f>& normals,
 
 Eigen::Vector3d WeakestDirection(const std::vector<Eigen::Vector3f>& normals,
                                  const std::vector<std::size_t>& indices) {
+  return WeakestAxisOf(normals, indices).direction;
+}
+
+WeakestAxis WeakestAxisOf(const std::vector<Eigen::Vector3f>& normals,
+                          const std::vector<std::size_t>& indices) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Information(normals, indices));
-  return solver.eigenvectors().col(0);
+  const Eigen::Vector3d& lambda = solver.eigenvalues();  // ascending
+  return {solver.eigenvectors().col(0), lambda(2) > 0.0 ? lambda(0) / lambda(2) : 1.0};
+}
+
+std::vector<std::uint8_t> MapLater(const std::vector<PointClass>& labels,
+                                   const std::vector<Eigen::Vector3f>& normals,
+                                   const WeakestAxis& weakest,
+                                   const std::vector<std::uint8_t>& object_mask,
+                                   const CompactObjectsConfig& config) {
+  std::vector<std::uint8_t> later(labels.size(), 0);
+  for (std::size_t i = 0; i < object_mask.size() && i < later.size(); ++i) later[i] = object_mask[i];
+  if (!(weakest.share < config.weak_axis_ratio)) return later;
+  const Eigen::Vector3f d = weakest.direction.cast<float>();
+  for (std::size_t i = 0; i < later.size(); ++i) {
+    if (!Judged(labels[i])) continue;
+    const bool faces = i < normals.size() && std::abs(normals[i].dot(d)) >= config.facing_cos;
+    if (faces || labels[i] == PointClass::Edge) later[i] = 1;
+  }
+  return later;
 }
 
 bool ObjectsWitnessTheWeakAxis(const std::vector<Eigen::Vector3f>& normals,

@@ -54,6 +54,13 @@ struct CompactObjectsConfig {
   // hold the estimate back.
   double body_depth = 0.6;   // metres
   double body_margin = 0.1;  // metres
+  // Seconds a compact object's place must keep a surface before it enters the map (with
+  // moving.map_after, which the rest of the scan needs). A group that waits beside the path for
+  // two seconds and then walks on at the walker's pace otherwise enters the map and is matched
+  // against its own old bodies: the estimate stands still with it (handheld-corridor-people
+  // seed 2). What truly stands there, a bin or a parked cart, is seen for longer than this as
+  // the sensor approaches it.
+  double map_after = 3.0;    // seconds
 };
 
 class CompactObjects {
@@ -100,7 +107,27 @@ class CompactObjects {
   std::vector<std::uint8_t> judged_;  // per point: neither ground nor roof
 };
 
-// The direction (sensor frame, unit) that the indexed points' normals observe least.
+// The direction (sensor frame, unit) that the indexed points' normals observe least, and how
+// weakly: its eigenvalue of sum n n^T over the largest.
+struct WeakestAxis {
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  double share = 1.0;
+};
+WeakestAxis WeakestAxisOf(const std::vector<Eigen::Vector3f>& normals,
+                          const std::vector<std::size_t>& indices);
+
+// Per point, 1 where the map should take it only after config.map_after: on a compact object
+// (object_mask), or, where the scan observes `weakest` below weak_axis_ratio of its strongest
+// direction, a point that would witness that direction (its normal faces it, or an edge, which
+// is registered point to point). Those few points hold a featureless corridor's axis, and a
+// group that stood for two seconds and then walks along must not be among them; a door frame
+// seen as the walker approaches it is seen for longer.
+std::vector<std::uint8_t> MapLater(const std::vector<PointClass>& labels,
+                                   const std::vector<Eigen::Vector3f>& normals,
+                                   const WeakestAxis& weakest,
+                                   const std::vector<std::uint8_t>& object_mask,
+                                   const CompactObjectsConfig& config);
+
 Eigen::Vector3d WeakestDirection(const std::vector<Eigen::Vector3f>& normals,
                                  const std::vector<std::size_t>& indices);
 

@@ -149,17 +149,19 @@ void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
 }
 
 void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
-                         const std::vector<std::uint8_t>& moving) {
+                         const std::vector<std::uint8_t>& moving,
+                         const std::vector<std::uint8_t>& compact) {
   std::vector<std::size_t> kept = map_sampler_.Select(
       scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
   WithoutMoving(kept, moving);
-  KeepPersistent(kept, scan, T_world_sensor);
+  KeepPersistent(kept, scan, T_world_sensor, compact);
   map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
               Gather(scan.normals, kept), T_world_sensor);
 }
 
 void Odometry::KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedScan& scan,
-                              const Eigen::Isometry3d& T_world_sensor) {
+                              const Eigen::Isometry3d& T_world_sensor,
+                              const std::vector<std::uint8_t>& compact) {
   if (!config_.moving.enabled || !(config_.moving.map_after > 0.0)) return;
   std::vector<Eigen::Vector3d> world;
   world.reserve(kept.size());
@@ -168,10 +170,13 @@ void Odometry::KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedSc
     persistence_.Accept(world, T_world_sensor.translation(), scan.scan.t_start);
     return;
   }
-  const std::vector<std::uint8_t> persistent = persistence_.Observe(world, T_world_sensor.translation(), scan.scan.t_start);
+  const std::vector<double> age =
+      persistence_.ObservedFor(world, T_world_sensor.translation(), scan.scan.t_start);
+  const double compact_age = std::max(config_.moving.map_after, config_.compact_objects.map_after);
   std::size_t n = 0;
   for (std::size_t k = 0; k < kept.size(); ++k) {
-    if (persistent[k]) kept[n++] = kept[k];
+    const bool on_object = kept[k] < compact.size() && compact[kept[k]] != 0;
+    if (age[k] >= (on_object ? compact_age : config_.moving.map_after) - 1e-9) kept[n++] = kept[k];
   }
   kept.resize(n);
 }
@@ -216,12 +221,15 @@ void Odometry::SelectSource(Frame& frame) {
   WithoutMoving(idx, frame.moving);
   frame.set_aside = frame.moving;
   frame.objects_set_aside = 0;
+  frame.compact.clear();
   if (config_.compact_objects.enabled && initialised_) {
     // Objects facing the scan's weakest direction: where they make it look observed, the rest
     // of the scan's weakest direction is this one.
+    const WeakestAxis weakest = WeakestAxisOf(scan.normals, idx);
     const std::vector<std::uint8_t>& objects =
-        compact_objects_.Find(scan.scan.points, scan.labels, scan.normals,
-                              WeakestDirection(scan.normals, idx), T_world_last_.linear());
+        compact_objects_.Find(scan.scan.points, scan.labels, scan.normals, weakest.direction,
+                              T_world_last_.linear());
+    frame.compact = MapLater(scan.labels, scan.normals, weakest, objects, config_.compact_objects);
     if (!objects.empty() &&
         ObjectsWitnessTheWeakAxis(scan.normals, idx, objects, config_.compact_objects)) {
       if (frame.set_aside.empty()) frame.set_aside.assign(objects.size(), 0);
@@ -299,7 +307,7 @@ double Odometry::CommitMap() {
   if (!pending_map_update_) return 0.0;
   Stopwatch watch;
   UpdateMap(pending_map_update_->scan, pending_map_update_->T_world_sensor,
-            pending_map_update_->moving);
+            pending_map_update_->moving, pending_map_update_->compact);
   pending_map_update_.reset();
   return watch.LapMs();
 }
@@ -368,7 +376,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       UpdateMotionModel(frame, reg, dt, result.status);
     }
   }
-  InsertIntoMap(frame.scan, frame.set_aside, T_new, defer_map);
+  InsertIntoMap(frame.scan, frame.set_aside, frame.compact, T_new, defer_map);
   if (config_.moving.enabled) {
     moving_.AddView(frame.scan.scan.points, frame.scan.labels, T_new,
                     MidScanStamp(frame.scan.scan.t_start));
@@ -730,6 +738,7 @@ void Odometry::Restart(Frame& frame) {
   consecutive_lost_ = 0;
   frame.moving.clear();
   frame.set_aside.clear();
+  frame.compact.clear();
 }
 
 void Odometry::Describe(const RegistrationResult& reg, OdometryResult& result) {
@@ -771,9 +780,10 @@ void Odometry::UpdateMotionModel(const Frame& frame, const RegistrationResult& r
 }
 
 void Odometry::InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving,
+                             const std::vector<std::uint8_t>& compact,
                              const Eigen::Isometry3d& T_world_sensor, bool defer) {
   if (!defer) {
-    UpdateMap(scan, T_world_sensor, moving);
+    UpdateMap(scan, T_world_sensor, moving, compact);
     return;
   }
   // UpdateMap leaves the moving points out when the update is applied, as it does here.
@@ -782,7 +792,7 @@ void Odometry::InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::
   copy.scan.points = scan.scan.points;
   copy.labels = scan.labels;
   copy.normals = scan.normals;
-  pending_map_update_.emplace(PendingMapUpdate{std::move(copy), T_world_sensor, moving});
+  pending_map_update_.emplace(PendingMapUpdate{std::move(copy), T_world_sensor, moving, compact});
 }
 
 OdometryResult Odometry::Finish(OdometryResult result, Frame&& frame,

@@ -99,6 +99,9 @@ class Odometry {
     // object that would hold the weak axis (CompactObjects); empty: none.
     std::vector<std::uint8_t> set_aside;
     std::size_t objects_set_aside = 0;   // points of compact objects among them
+    // Per point of scan, 1 on a compact object facing the weak direction, set aside or not
+    // (empty: none found); the map takes them only after compact_objects.map_after.
+    std::vector<std::uint8_t> compact;
     bool held_at_prediction = false;     // along a degenerate direction (HoldAliasedAxis)
     // The gyro's rotation through the scan and from the previous scan's middle to this one's,
     // both set or neither (not covered: the scan is the LiDAR's alone).
@@ -150,10 +153,13 @@ class Odometry {
   void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(Frame& frame);
   void UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
-                 const std::vector<std::uint8_t>& moving = {});
+                 const std::vector<std::uint8_t>& moving = {},
+                 const std::vector<std::uint8_t>& compact = {});
   // Of the map candidates, those whose place has persisted (all of them on the first scan).
+  // Points on compact objects (`compact`, per point of scan; empty: none) wait longer.
   void KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedScan& scan,
-                      const Eigen::Isometry3d& T_world_sensor);
+                      const Eigen::Isometry3d& T_world_sensor,
+                      const std::vector<std::uint8_t>& compact);
   OdometryResult RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map);
   // The steps of RegisterAndUpdate, in order.
   OdometryResult NewResult(const ClassifiedScan& scan);
@@ -194,6 +200,7 @@ class Odometry {
   void UpdateMotionModel(const Frame& frame, const RegistrationResult& reg, double dt,
                          OdometryStatus status);
   void InsertIntoMap(const ClassifiedScan& scan, const std::vector<std::uint8_t>& moving,
+                     const std::vector<std::uint8_t>& compact,
                      const Eigen::Isometry3d& T_world_sensor, bool defer);
   OdometryResult Finish(OdometryResult result, Frame&& frame, const Eigen::Isometry3d& T_new);
 
@@ -234,6 +241,7 @@ class Odometry {
     ClassifiedScan scan;
     Eigen::Isometry3d T_world_sensor;
     std::vector<std::uint8_t> moving;
+    std::vector<std::uint8_t> compact;
   };
   std::optional<PendingMapUpdate> pending_map_update_;
   // The gyroscope (EnableImu): its description, use, samples (LiDAR clock) and bias filter.

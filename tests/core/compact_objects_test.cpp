@@ -3,6 +3,9 @@
 // (the axis of a featureless corridor) are they set aside.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/odometry/compact_objects.hpp"
 #include "core/preprocess/downsample.hpp"
 #include "core/preprocess/feature_extractor.hpp"
@@ -148,6 +151,57 @@ TEST(CompactObjects, APersonIsSetAsideOnlyWhereTheyAloneObserveTheCorridorAxis) 
   const std::vector<std::uint8_t> none =
       objects.Find(empty.scan.scan.points, empty.scan.labels, empty.scan.normals, kAxis, Eigen::Matrix3d::Identity());
   EXPECT_FALSE(ObjectsWitnessTheWeakAxis(empty.scan.normals, Source(empty.scan), none, {}));
+}
+
+// A group walking beside the sensor is seen side-on: little of it faces the corridor's axis and
+// none of it is a compact object facing it, yet its corners and what does face the axis would
+// hold the axis once mapped. In the open corridor those points wait (MapLater), the walls and
+// floor do not; in a room, whose walls observe the axis, only compact objects would wait.
+TEST(CompactObjects, WhatWouldWitnessAWeakAxisIsMappedLater) {
+  Scene open = Corridor();
+  for (double x : {-0.6, 0.0, 0.6}) open.solids.push_back(Person(x, 0.8));
+  const Extracted e = Observe(open);
+  const WeakestAxis weakest = WeakestAxisOf(e.scan.normals, Source(e.scan));
+  EXPECT_GT(std::abs(weakest.direction.x()), 0.9);
+  ASSERT_LT(weakest.share, CompactObjectsConfig{}.weak_axis_ratio);
+  const std::vector<std::uint8_t> later = MapLater(e.scan.labels, e.scan.normals, weakest, {}, {});
+  ASSERT_EQ(later.size(), e.scan.scan.points.size());
+  int group_on = 0, group_later = 0;
+  for (int person : {10, 11, 12}) {
+    const Share share = Marked(e, later, person);
+    group_on += share.on;
+    group_later += share.marked;
+  }
+  ASSERT_GT(group_on, 500);
+  EXPECT_GT(group_later, 0.2 * group_on) << "fronts, backs and corners";
+  // The open wall waits for a few stray normals only; floor and ceiling within 10 m only where
+  // they meet the walls or the group's feet (corner lines, labelled edges like every corner;
+  // farther, the rings' sparse ends are edges too).
+  const Share open_wall = Marked(e, later, 22);
+  ASSERT_GT(open_wall.on, 1000);
+  EXPECT_LT(open_wall.marked, 0.03 * open_wall.on);
+  for (int surface : {20, 21}) {
+    int away_from_walls = 0;
+    for (std::size_t i = 0; i < later.size(); ++i) {
+      const Eigen::Vector3d& p = e.scan.scan.points[i];
+      const bool at_feet = std::abs(p.x()) < 1.2 && std::abs(p.y() - 0.8) < 0.5;
+      away_from_walls += e.surfaces[i] == surface && later[i] && std::abs(p.x()) < 10.0 &&
+                         std::abs(p.y()) < 0.85 && !at_feet;
+    }
+    EXPECT_EQ(away_from_walls, 0) << surface << " of " << Marked(e, later, surface).marked;
+  }
+
+  Scene room;
+  room.has_room = true;
+  room.room = {{-4.0, -3.0, kFloor}, {4.0, 3.0, 1.4}};
+  for (double x : {-0.6, 0.0, 0.6}) room.solids.push_back(Person(x, 0.8));
+  const Extracted r = Observe(room);
+  const WeakestAxis observed = WeakestAxisOf(r.scan.normals, Source(r.scan));
+  ASSERT_GE(observed.share, CompactObjectsConfig{}.weak_axis_ratio);
+  std::vector<std::uint8_t> objects(r.scan.scan.points.size(), 0);
+  objects[0] = 1;
+  const std::vector<std::uint8_t> room_later = MapLater(r.scan.labels, r.scan.normals, observed, objects, {});
+  EXPECT_EQ(std::count(room_later.begin(), room_later.end(), 1), 1) << "the object mask alone";
 }
 
 }  // namespace
