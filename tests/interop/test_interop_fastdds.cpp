@@ -71,11 +71,12 @@ std::vector<io::StampedPose> CycloneRun(std::uint32_t domain, const fs::path& se
                       {"--domain", std::to_string(domain), "--poses", tum.string(), "--count",
                        std::to_string(kScans), "--timeout", "120"},
                       dir / "cyclone-record.log");
-  // --no-imu: the simulated sequence has an imu.csv, which the Fast DDS client does not send
-  // (dammloamd would otherwise use its gyro in this run only).
+  // --no-imu, --no-wheel: the simulated sequence has an imu.csv and a wheel.csv, which the Fast
+  // DDS client does not send (dammloamd would otherwise use them in this run only).
   ChildProcess replay("dammloam-replay",
                       {seq.string(), "--domain", std::to_string(domain), "--lockstep",
-                       "--lockstep-timeout", "60", "--wait-subscriber", "30", "--no-imu"},
+                       "--lockstep-timeout", "60", "--wait-subscriber", "30", "--no-imu",
+                       "--no-wheel"},
                       dir / "cyclone-replay.log");
   const auto replay_code = replay.Wait(milliseconds(300000));
   EXPECT_TRUE(replay_code && *replay_code == 0) << Logs({&replay, &daemon});
