@@ -146,6 +146,7 @@ void ReadCompactObjects(Section s, CompactObjectsConfig& c) {
   s.Get("weak_axis_ratio", c.weak_axis_ratio);
   s.Get("witness_share", c.witness_share);
   s.Get("map_after", c.map_after);
+  s.Get("top_margin_deg", c.top_margin_deg);
   s.RejectUnknownKeys();
 }
 
@@ -342,6 +343,8 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(co.witness_share >= 0.0, "compact_objects.witness_share", "must be >= 0");
   Require(co.map_after >= 0.0 && std::isfinite(co.map_after), "compact_objects.map_after",
           "must be a finite number of seconds >= 0");
+  Require(co.top_margin_deg >= 0.0 && co.top_margin_deg <= 90.0, "compact_objects.top_margin_deg",
+          "must be in [0, 90] degrees");
   Require(c.min_points >= 1, "min_points", "must be >= 1");
   Require(c.max_time_gap > 0.0, "max_time_gap", "must be > 0");
   Require(c.motion_model_max_deviation >= 0.0, "motion_model_max_deviation", "must be >= 0");

@@ -10,6 +10,9 @@ namespace dammloam {
 namespace {
 constexpr float kEmpty = std::numeric_limits<float>::infinity();
 bool Judged(PointClass c) { return c != PointClass::Ground && c != PointClass::Roof; }
+float Elevation(const Eigen::Vector3d& p) {
+  return static_cast<float>(std::atan2(p.z(), p.head<2>().norm()));
+}
 }  // namespace
 
 bool CompactObjects::GroundHeight(const std::vector<Eigen::Vector3d>& upright,
@@ -32,7 +35,7 @@ bool CompactObjects::GroundHeight(const std::vector<Eigen::Vector3d>& upright,
 void CompactObjects::Label(int start) {
   const int id = static_cast<int>(objects_.size());
   Object object{Eigen::Vector2f::Constant(kEmpty), Eigen::Vector2f::Constant(-kEmpty), kEmpty,
-                -kEmpty, false, kEmpty, -kEmpty, kEmpty, -kEmpty};
+                -kEmpty, false, kEmpty, -kEmpty, kEmpty, -kEmpty, -kEmpty};
   stack_.assign(1, start);
   cells_[start].object = id;
   while (!stack_.empty()) {
@@ -111,10 +114,14 @@ const std::vector<std::uint8_t>& CompactObjects::Find(const std::vector<Eigen::V
   for (int k : occupied_) {
     if (cells_[k].object < 0) Label(k);
   }
-  // Each object's facing points, along and across the direction.
+  // Each object's facing points, along and across the direction, and how high they reach in
+  // the view.
+  float view_top = -kEmpty;
+  for (const Eigen::Vector3d& p : points_sensor) view_top = std::max(view_top, Elevation(p));
   for (std::size_t i = 0; i < points_sensor.size(); ++i) {
     if (pixel_[i] < 0) continue;
     Object& o = objects_[cells_[pixel_[i]].object];
+    o.elevation_max = std::max(o.elevation_max, Elevation(points_sensor[i]));
     const Eigen::Vector2d xy = upright_[i].head<2>();
     const float a = static_cast<float>(xy.dot(along)), c = static_cast<float>(xy.dot(across));
     o.along_min = std::min(o.along_min, a);
@@ -123,6 +130,7 @@ const std::vector<std::uint8_t>& CompactObjects::Find(const std::vector<Eigen::V
     o.across_max = std::max(o.across_max, c);
   }
   const float extent_cells = static_cast<float>(config_.max_extent / config_.cell);
+  const float clipped = view_top - static_cast<float>(config_.top_margin_deg * M_PI / 180.0);
   for (Object& o : objects_) {
     // Cells are counted by index: the footprint spans (hi - lo + 1) cells each way.
     const float diagonal = (o.hi - o.lo + Eigen::Vector2f::Ones()).norm();
@@ -131,7 +139,8 @@ const std::vector<std::uint8_t>& CompactObjects::Find(const std::vector<Eigen::V
     // the other way round.
     const bool faces = o.along_max - o.along_min <=
                        config_.body_depth + (o.across_max - o.across_min);
-    o.compact = diagonal <= extent_cells && faces && o.z_max - o.z_min >= config_.min_height &&
+    o.compact = diagonal <= extent_cells && faces && o.elevation_max < clipped &&
+                o.z_max - o.z_min >= config_.min_height &&
                 o.z_min - ground <= config_.max_lift && o.z_max - ground <= config_.max_height;
   }
   mask_.assign(points_sensor.size(), 0);

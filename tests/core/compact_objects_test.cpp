@@ -153,6 +153,30 @@ TEST(CompactObjects, APersonIsSetAsideOnlyWhereTheyAloneObserveTheCorridorAxis) 
   EXPECT_FALSE(ObjectsWitnessTheWeakAxis(empty.scan.normals, Source(empty.scan), none, {}));
 }
 
+// A partition 1.2 m ahead reaches the ceiling, but the highest beam meets it 1.9 m above the
+// floor: seen, it is as short as a person. It goes on above the view, so it is not compact,
+// while a person as near, whose head is below the view's top, still is.
+TEST(CompactObjects, AWallFacetThatGoesOnAboveTheViewIsNotCompact) {
+  Scene scene = Corridor();
+  scene.solids.push_back({{1.2, -1.2, kFloor}, {1.3, 0.3, 1.4}});  // floor to ceiling
+  scene.solids.push_back(Person(-2.5, 0.5));
+  const Extracted e = Observe(scene);
+  CompactObjects objects({});
+  const std::vector<std::uint8_t>& mask =
+      objects.Find(e.scan.scan.points, e.scan.labels, e.scan.normals, kAxis, Eigen::Matrix3d::Identity());
+  ASSERT_FALSE(mask.empty());
+  const Share facet = Marked(e, mask, 10), person = Marked(e, mask, 11);
+  ASSERT_GT(facet.on, 500);
+  double facet_top = -1e9;
+  for (std::size_t i = 0; i < e.surfaces.size(); ++i) {
+    if (e.surfaces[i] == 10) facet_top = std::max(facet_top, e.scan.scan.points[i].z() - kFloor);
+  }
+  ASSERT_LT(facet_top, CompactObjectsConfig{}.max_height) << "seen as short as a person";
+  EXPECT_EQ(facet.marked, 0);
+  ASSERT_GT(person.on, 200);
+  EXPECT_GE(person.marked, 0.95 * person.on);
+}
+
 // A group walking beside the sensor is seen side-on: little of it faces the corridor's axis and
 // none of it is a compact object facing it, yet its corners and what does face the axis would
 // hold the axis once mapped. In the open corridor those points wait (MapLater), the walls and
