@@ -2,8 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "core/inertial/imu_horizon.hpp"
@@ -50,52 +48,21 @@ ImuInput::ImuInput(const dds::Participant& participant, const DaemonConfig& conf
     : config_(config.imu),
       scan_period_(config.sensor.scan_period),
       stats_(stats),
-      topic_(participant, dammloam_msg_Imu_desc, config.topics.imu, dds::ImuQos()),
-      reader_(participant, topic_, dds::ImuQos()),
-      waitset_(participant) {
-  waitset_.Attach(reader_);
+      stream_(participant, dammloam_msg_Imu_desc, config.topics.imu, dds::ImuQos()) {
   if (config.ros2.enabled) {
-    ros2_topic_.emplace(participant, sensor_msgs_msg_dds__Imu__desc,
-                        dds::Ros2TopicName(config.ros2.imu_topic), Ros2ImuQos());
-    ros2_reader_.emplace(participant, *ros2_topic_, Ros2ImuQos());
-    waitset_.Attach(*ros2_reader_);
+    stream_.AddRos2(participant, sensor_msgs_msg_dds__Imu__desc,
+                    dds::Ros2TopicName(config.ros2.imu_topic), Ros2ImuQos());
   }
 }
 
-void ImuInput::Watch(dds::MiddlewareWatch& watch) const {
-  watch.Watch(reader_);
-  if (ros2_reader_) watch.Watch(*ros2_reader_);
-}
-
-bool ImuInput::WriterMatched() const {
-  return reader_.MatchedWriters() > 0 || (ros2_reader_ && ros2_reader_->MatchedWriters() > 0);
-}
+void ImuInput::Watch(dds::MiddlewareWatch& watch) const { stream_.Watch(watch); }
 
 void ImuInput::FeedThrough(double t_start, Odometry& odometry, const std::atomic<bool>& stop) {
-  using Clock = std::chrono::steady_clock;
   first_scan_ = !scan_t_;
   scan_t_ = t_start;
   const double horizon = ImuHorizon(t_start, scan_period_);
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double>(config_.max_wait));
-  waited_out_ = false;
-  // A sample at or past the horizon says every earlier one has come (one writer sends in stamp
-  // order). No wait without a matched writer (nothing is coming), nor while the stream is more
-  // than a scan behind the scans (stalled, or on another clock: its samples are dropped), nor,
-  // after the first scan, while no usable sample has come at all (a writer that sends nothing),
-  // so that a broken IMU does not cost every scan max_wait.
-  while (true) {
-    Take();
-    if ((last_t_ && *last_t_ >= horizon) || stop || !WriterMatched()) break;
-    if (last_t_ ? *last_t_ < t_start - scan_period_ : !first_scan_) break;
-    const auto left = deadline - Clock::now();
-    if (left <= Clock::duration::zero()) {
-      waited_out_ = true;
-      break;
-    }
-    waitset_.Wait(std::clamp(std::chrono::ceil<std::chrono::milliseconds>(left),
-                             std::chrono::milliseconds(1), std::chrono::milliseconds(10)));
-  }
+  const HorizonWait wait{t_start, scan_period_, horizon, config_.max_wait, first_scan_};
+  waited_out_ = stream_.WaitForHorizon(wait, last_t_, stop, [this] { Take(); });
   first_scan_ = false;
   while (!pending_.empty() && pending_.front().t <= horizon) {
     if (!odometry_enabled_) {
@@ -119,22 +86,9 @@ void ImuInput::Count(const OdometryResult& result) {
 }
 
 void ImuInput::Take() {
-  std::uint64_t taken = 0;
-  while (reader_.TakeEach(
-             [&](const dammloam_msg_Imu& m, const dds_sample_info_t&) {
-               ++taken;
-               Admit(dds::FromImuMessage(m));
-             },
-             64) > 0) {
-  }
-  // One timeline for both inputs, as for the clouds.
-  while (ros2_reader_ && ros2_reader_->TakeEach(
-                             [&](const sensor_msgs_msg_dds__Imu_& m, const dds_sample_info_t&) {
-                               ++taken;
-                               Admit(dds::FromRos2Imu(m));
-                             },
-                             64) > 0) {
-  }
+  const std::uint64_t taken =
+      stream_.TakeAll([this](const dammloam_msg_Imu& m) { Admit(dds::FromImuMessage(m)); },
+                      [this](const sensor_msgs_msg_dds__Imu_& m) { Admit(dds::FromRos2Imu(m)); });
   if (taken > 0) stats_.ImuSamples(taken);
 }
 

@@ -22,6 +22,7 @@
 #include "sensor_msgs.h"
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dammloamd/daemon_stats.hpp"
+#include "services/dammloamd/sample_stream.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/middleware_watch.hpp"
 
@@ -44,17 +45,12 @@ class ImuInput {
   void Take();
   void Admit(ImuSample sample);  // stamp as sent (IMU clock)
   void Fault(const std::string& reason, bool dropped, double t);
-  bool WriterMatched() const;
 
   ImuConfig config_;
   double scan_period_;
   GyroIntegrationConfig integration_;  // max_gap and saturation_rate, as the odometry judges
   DaemonStats& stats_;
-  dds::Topic topic_;
-  dds::Reader<dammloam_msg_Imu> reader_;
-  std::optional<dds::Topic> ros2_topic_;
-  std::optional<dds::Reader<sensor_msgs_msg_dds__Imu_>> ros2_reader_;
-  dds::WaitSet waitset_;
+  SampleStream<dammloam_msg_Imu, sensor_msgs_msg_dds__Imu_> stream_;
   std::deque<ImuSample> pending_;   // accepted, LiDAR clock, in stamp order, not handed over yet
   std::optional<double> last_t_;    // the newest accepted stamp
   std::optional<double> scan_t_;    // start of the scan being fed; none before the first scan

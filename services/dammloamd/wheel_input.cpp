@@ -2,8 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "core/inertial/wheel_horizon.hpp"
@@ -52,55 +50,25 @@ WheelInput::WheelInput(const dds::Participant& participant, const DaemonConfig& 
     : config_(config.wheel),
       scan_period_(config.sensor.scan_period),
       stats_(stats),
-      topic_(participant, dammloam_msg_WheelOdometry_desc, config.topics.wheel_odometry,
-             dds::WheelOdometryQos()),
-      reader_(participant, topic_, dds::WheelOdometryQos()),
-      waitset_(participant) {
+      stream_(participant, dammloam_msg_WheelOdometry_desc, config.topics.wheel_odometry,
+              dds::WheelOdometryQos()) {
   use_.T_sensor_base = config_.T_sensor_base;
   use_.max_speed = config_.max_speed;
   use_.max_yaw_rate = config_.max_yaw_rate;
-  waitset_.Attach(reader_);
   if (config.ros2.enabled) {
-    ros2_topic_.emplace(participant, nav_msgs_msg_dds__Odometry__desc,
-                        dds::Ros2TopicName(config.ros2.wheel_topic), Ros2WheelQos());
-    ros2_reader_.emplace(participant, *ros2_topic_, Ros2WheelQos());
-    waitset_.Attach(*ros2_reader_);
+    stream_.AddRos2(participant, nav_msgs_msg_dds__Odometry__desc,
+                    dds::Ros2TopicName(config.ros2.wheel_topic), Ros2WheelQos());
   }
 }
 
-void WheelInput::Watch(dds::MiddlewareWatch& watch) const {
-  watch.Watch(reader_);
-  if (ros2_reader_) watch.Watch(*ros2_reader_);
-}
-
-bool WheelInput::WriterMatched() const {
-  return reader_.MatchedWriters() > 0 || (ros2_reader_ && ros2_reader_->MatchedWriters() > 0);
-}
+void WheelInput::Watch(dds::MiddlewareWatch& watch) const { stream_.Watch(watch); }
 
 void WheelInput::FeedThrough(double t_start, Odometry& odometry, const std::atomic<bool>& stop) {
-  using Clock = std::chrono::steady_clock;
   first_scan_ = !scan_t_;
   scan_t_ = t_start;
   const double horizon = WheelHorizon(t_start, scan_period_);
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double>(config_.max_wait));
-  waited_out_ = false;
-  // As the IMU's wait (imu_input.cpp): a sample at or past the horizon says every earlier one
-  // has come; no wait without a matched writer, nor while the stream is more than a scan behind,
-  // nor, after the first scan, while no usable sample has come at all, so that stalled wheels do
-  // not cost every scan max_wait.
-  while (true) {
-    Take();
-    if ((last_t_ && *last_t_ >= horizon) || stop || !WriterMatched()) break;
-    if (last_t_ ? *last_t_ < t_start - scan_period_ : !first_scan_) break;
-    const auto left = deadline - Clock::now();
-    if (left <= Clock::duration::zero()) {
-      waited_out_ = true;
-      break;
-    }
-    waitset_.Wait(std::clamp(std::chrono::ceil<std::chrono::milliseconds>(left),
-                             std::chrono::milliseconds(1), std::chrono::milliseconds(10)));
-  }
+  const HorizonWait wait{t_start, scan_period_, horizon, config_.max_wait, first_scan_};
+  waited_out_ = stream_.WaitForHorizon(wait, last_t_, stop, [this] { Take(); });
   first_scan_ = false;
   while (!pending_.empty() && pending_.front().t <= horizon) {
     if (!odometry_enabled_) {
@@ -125,22 +93,11 @@ void WheelInput::Count(const OdometryResult& result) {
 }
 
 void WheelInput::Take() {
-  std::uint64_t taken = 0;
-  while (reader_.TakeEach(
-             [&](const dammloam_msg_WheelOdometry& m, const dds_sample_info_t&) {
-               ++taken;
-               Admit(dds::FromWheelMessage(m));
-             },
-             64) > 0) {
-  }
-  // One timeline for both inputs, as for the clouds.
-  while (ros2_reader_ && ros2_reader_->TakeEach(
-                             [&](const nav_msgs_msg_dds__Odometry_& m, const dds_sample_info_t&) {
-                               ++taken;
-                               Admit(dds::FromRos2WheelOdometry(m));
-                             },
-                             64) > 0) {
-  }
+  const std::uint64_t taken = stream_.TakeAll(
+      [this](const dammloam_msg_WheelOdometry& m) { Admit(dds::FromWheelMessage(m)); },
+      [this](const nav_msgs_msg_dds__Odometry_& m) {
+        Admit(dds::FromRos2WheelOdometry(m));
+      });
   if (taken > 0) stats_.WheelSamples(taken);
 }
 

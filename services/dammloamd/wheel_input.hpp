@@ -24,6 +24,7 @@
 #include "nav_msgs.h"
 #include "services/dammloamd/daemon_config.hpp"
 #include "services/dammloamd/daemon_stats.hpp"
+#include "services/dammloamd/sample_stream.hpp"
 #include "services/dds/dds.hpp"
 #include "services/dds/middleware_watch.hpp"
 
@@ -47,17 +48,12 @@ class WheelInput {
   void Take();
   void Admit(WheelSample sample);  // stamp as sent (the wheel controller's clock)
   void Fault(const std::string& reason, bool dropped, double t);
-  bool WriterMatched() const;
 
   WheelConfig config_;
   WheelUseConfig use_;  // what the odometry is enabled with: the offline runner's but the extrinsic
   double scan_period_;
   DaemonStats& stats_;
-  dds::Topic topic_;
-  dds::Reader<dammloam_msg_WheelOdometry> reader_;
-  std::optional<dds::Topic> ros2_topic_;
-  std::optional<dds::Reader<nav_msgs_msg_dds__Odometry_>> ros2_reader_;
-  dds::WaitSet waitset_;
+  SampleStream<dammloam_msg_WheelOdometry, nav_msgs_msg_dds__Odometry_> stream_;
   std::deque<WheelSample> pending_;  // accepted, LiDAR clock, in stamp order, not handed over yet
   std::optional<double> last_t_;     // the newest accepted stamp
   std::optional<double> scan_t_;     // start of the scan being fed; none before the first scan
