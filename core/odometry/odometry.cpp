@@ -229,7 +229,10 @@ void Odometry::SelectSource(Frame& frame) {
     const std::vector<std::uint8_t>& objects =
         compact_objects_.Find(scan.scan.points, scan.labels, scan.normals, weakest.direction,
                               T_world_last_.linear());
-    frame.compact = MapLater(scan.labels, scan.normals, weakest, objects, config_.compact_objects);
+    // Only where the map makes them wait longer than the rest (off by default): per scan work.
+    if (config_.moving.enabled && config_.compact_objects.map_after > config_.moving.map_after) {
+      frame.compact = MapLater(scan.labels, scan.normals, weakest, objects, config_.compact_objects);
+    }
     if (!objects.empty() &&
         ObjectsWitnessTheWeakAxis(scan.normals, idx, objects, config_.compact_objects)) {
       if (frame.set_aside.empty()) frame.set_aside.assign(objects.size(), 0);
