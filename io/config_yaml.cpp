@@ -150,6 +150,19 @@ void ReadCompactObjects(Section s, CompactObjectsConfig& c) {
   s.RejectUnknownKeys();
 }
 
+void ReadAccelerometer(Section s, AccelUseConfig& c) {
+  s.Get("enabled", c.enabled);
+  s.Get("acceleration_sigma", c.acceleration_sigma);
+  s.Get("saturation", c.saturation);
+  Section g = s.Child("gravity");
+  g.Get("warmup", c.gravity.warmup);
+  g.Get("memory", c.gravity.memory);
+  g.Get("velocity_sigma", c.gravity.velocity_sigma);
+  g.Get("bias_sigma", c.gravity.bias_sigma);
+  g.RejectUnknownKeys();
+  s.RejectUnknownKeys();
+}
+
 void ReadHealth(Section s, TrackingHealthConfig& h) {
   s.Get("reference_scans", h.reference_scans);
   s.Get("degraded_pair_share", h.degraded_pair_share);
@@ -177,6 +190,7 @@ OdometryConfig ParseOdometryConfig(const YAML::Node& root) {
   ReadMotionPrior(s.Child("motion_prior"), config);
   ReadMoving(s.Child("moving"), config);
   ReadCompactObjects(s.Child("compact_objects"), config.compact_objects);
+  ReadAccelerometer(s.Child("accelerometer"), config.accelerometer);
   ReadHealth(s.Child("health"), config.health);
   s.Get("map_frame_voxel_factor", config.map_frame_voxel_factor);
   s.Get("deskew", config.deskew);
@@ -343,6 +357,14 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
   Require(co.witness_share >= 0.0, "compact_objects.witness_share", "must be >= 0");
   Require(co.map_after >= 0.0 && std::isfinite(co.map_after), "compact_objects.map_after",
           "must be a finite number of seconds >= 0");
+  const AccelUseConfig& ac = c.accelerometer;
+  Require(ac.acceleration_sigma > 0.0 && std::isfinite(ac.acceleration_sigma),
+          "accelerometer.acceleration_sigma", "must be > 0");
+  Require(ac.saturation > 0.0, "accelerometer.saturation", "must be > 0");
+  Require(ac.gravity.warmup >= 0.0, "accelerometer.gravity.warmup", "must be >= 0");
+  Require(ac.gravity.memory > 0.0, "accelerometer.gravity.memory", "must be > 0");
+  Require(ac.gravity.velocity_sigma > 0.0, "accelerometer.gravity.velocity_sigma", "must be > 0");
+  Require(ac.gravity.bias_sigma > 0.0, "accelerometer.gravity.bias_sigma", "must be > 0");
   Require(co.top_margin_deg >= 0.0 && co.top_margin_deg <= 90.0, "compact_objects.top_margin_deg",
           "must be in [0, 90] degrees");
   Require(c.min_points >= 1, "min_points", "must be >= 1");

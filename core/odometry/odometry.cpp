@@ -258,9 +258,9 @@ bool Odometry::Consecutive(double dt) const { return dt <= 1.5 * sensor_.scan_pe
 // sparse scans (a stream kept at 2 Hz) a trot's 0.36 rad/s pitch rate averages out, so the
 // scan's own turn rate may depart from it in proportion to the interval. Its linear velocity
 // may not: freed, it let a 2 Hz corridor walk (seed 3) slide 10 m along the weak axis.
-MotionPrior Odometry::Prior(double dt, bool holds) {
+MotionPrior Odometry::Prior(double dt, bool holds, double measured_acceleration_sigma) {
   if (!UsesMotionPrior(config_.registration.mode)) return {holds, {}, 0.0};
-  const Eigen::Matrix3d covariance = translation_filter_.Predict(dt);
+  const Eigen::Matrix3d covariance = translation_filter_.Predict(dt, measured_acceleration_sigma);
   const double sparse = Consecutive(dt) ? 1.0 : dt / sensor_.scan_period;
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
           config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
@@ -270,16 +270,19 @@ MotionPrior Odometry::Prior(double dt, bool holds) {
 
 Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
                                     const Eigen::Isometry3d& T_new,
-                                    const RegistrationResult& reg, double dt) {
+                                    const RegistrationResult& reg, double dt,
+                                    const std::optional<Eigen::Vector3d>& predicted_velocity) {
   const Matrix6d& I = reg.data_information;
   // The scan's information on the position alone (rotation marginalised out).
   const Eigen::Matrix3d I_tt =
       I.topLeftCorner<3, 3>() -
       I.topRightCorner<3, 3>() * I.bottomRightCorner<3, 3>().ldlt().solve(I.bottomLeftCorner<3, 3>());
   const Eigen::Vector3d t_last = T_world_last_.translation();
-  const Eigen::Vector3d v_pred = (T_pred.translation() - t_last) / dt;
+  const Eigen::Vector3d v_pred =
+      predicted_velocity ? *predicted_velocity : Eigen::Vector3d((T_pred.translation() - t_last) / dt);
   const Eigen::Vector3d v =
       translation_filter_.Update(v_pred, T_new.translation() - T_pred.translation(), I_tt);
+  world_velocity_ = v;
   Eigen::Isometry3d T_velocity = T_new;
   T_velocity.translation() = t_last + v * dt;
   return LogSE3(T_world_last_.inverse() * T_velocity) / dt;
@@ -334,8 +337,10 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   const double dt = TimeStep(scan.scan.t_start, result.status);
   GyroTracks gyro = TrackGyro(scan.scan.t_start, result.gyro);
   std::optional<WheelTrack> wheel = TrackWheel(scan.scan.t_start, result.wheel);
+  std::optional<VelocityIncrement> accel = TrackAccel(gyro, result.accelerometer);
   Frame frame = Deskew(std::move(scan), std::move(gyro));
   frame.wheel_interval = std::move(wheel);
+  frame.accel_interval = std::move(accel);
   result.timings.deskew_ms = watch.LapMs();
   if (initialised_) DetectMoving(frame, dt);
   SelectSource(frame);
@@ -376,7 +381,13 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       health_.Record(result.paired_share);
       T_new = reg.T_world_sensor;
       if (result.tracking == Tracking::kTracking) LearnGyroBias(frame, reg);
+      const Eigen::Vector3d velocity_before = world_velocity_;
+      const bool velocity_known = world_velocity_known_ && result.status == OdometryStatus::kOk;
       UpdateMotionModel(frame, reg, dt, result.status);
+      result.accelerometer_used = frame.accel_velocity.has_value();
+      if (velocity_known && result.tracking == Tracking::kTracking) {
+        LearnGravity(frame, velocity_before, dt);
+      }
     }
   }
   InsertIntoMap(frame.scan, frame.set_aside, frame.compact, T_new, defer_map);
@@ -420,6 +431,7 @@ double Odometry::TimeStep(double t_start, OdometryStatus& status) {
   if (dt > config_.max_time_gap) {
     velocity_before_gap_ = velocity_;
     velocity_.setZero();
+    world_velocity_known_ = false;
     translation_filter_.Reset();
     motion_model_holds_ = false;
     last_scan_degenerate_ = false;
@@ -482,6 +494,7 @@ RegistrationResult Odometry::RegisterFrame(Frame& frame, double dt) {
   if (frame.gyro_interval && !frame.wheel_interval) {
     frame.T_pred.translation() = T_world_last_.translation() + dt * WorldVelocity(dt);
   }
+  if (UsesAccel(frame)) PredictWithAccel(frame, dt);
   frame.T_guess = frame.T_pred;
   const MotionPrior prior = PriorFor(frame, dt, motion_model_holds_);
   RegistrationResult reg;
@@ -584,6 +597,7 @@ RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const Eigen::Isom
   SelectSource(frame);
   frame.T_guess = Predict(measured, dt, frame);
   translation_filter_.Reset();  // the velocity it predicted with was wrong
+  frame.accel_velocity.reset();
   return RegisterSource(frame, PriorFor(frame, dt, false));
 }
 
@@ -735,6 +749,7 @@ void Odometry::Restart(Frame& frame) {
   moving_.Clear();
   health_.Clear();
   velocity_.setZero();
+  world_velocity_known_ = false;
   translation_filter_.Reset();
   motion_model_holds_ = false;
   last_scan_degenerate_ = false;
@@ -775,9 +790,13 @@ void Odometry::UpdateMotionModel(const Frame& frame, const RegistrationResult& r
     threshold_.UpdateModelDeviation(frame.T_pred.inverse() * T_new);
   }
   velocity_frame_ = T_world_last_.linear();
-  velocity_ = UsesMotionPrior(config_.registration.mode)
-                  ? FilteredVelocity(frame.T_guess, T_new, reg, dt)
-                  : LogSE3(T_world_last_.inverse() * T_new) / dt;
+  if (UsesMotionPrior(config_.registration.mode)) {
+    velocity_ = FilteredVelocity(frame.T_guess, T_new, reg, dt, frame.accel_velocity);
+  } else {
+    velocity_ = LogSE3(T_world_last_.inverse() * T_new) / dt;
+    world_velocity_ = (T_new.translation() - T_world_last_.translation()) / dt;
+  }
+  world_velocity_known_ = true;
   motion_model_holds_ = Deviation(frame.T_pred, T_new) <= config_.motion_model_max_deviation;
   last_scan_degenerate_ = reg.degeneracy.AnyDegenerate();
 }
@@ -827,6 +846,7 @@ void Odometry::EnableImu(const ImuDescription& imu, const GyroUseConfig& config)
   imu_ = imu;
   gyro_config_ = config;
   gyro_bias_.emplace(imu.noise, config.bias);
+  if (config_.accelerometer.enabled) gravity_.emplace(config_.accelerometer.gravity);
 }
 
 bool Odometry::AddImu(const ImuSample& sample) {
@@ -911,7 +931,8 @@ Eigen::Matrix3d Odometry::GyroRotationInformation(const Frame& frame) const {
 // scan does not observe then follows the measured motion, while the scan's far larger
 // information keeps the directions it observes.
 MotionPrior Odometry::PriorFor(const Frame& frame, double dt, bool holds) {
-  MotionPrior prior = Prior(dt, holds);
+  MotionPrior prior =
+      Prior(dt, holds, frame.accel_velocity ? config_.accelerometer.acceleration_sigma : 0.0);
   if (!UsesMotionPrior(config_.registration.mode)) return prior;
   if (frame.wheel_interval) prior.translation_information = WheelTranslationInformation(frame);
   if (!frame.gyro_interval) return prior;

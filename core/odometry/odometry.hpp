@@ -13,7 +13,9 @@
 #include "core/inertial/gyro_integration.hpp"
 #include "core/inertial/gyro_use_config.hpp"
 #include "core/inertial/imu_sample.hpp"
+#include "core/inertial/gravity_estimate.hpp"
 #include "core/inertial/inertial_config.hpp"
+#include "core/inertial/velocity_increment.hpp"
 #include "core/inertial/wheel_integration.hpp"
 #include "core/inertial/wheel_sample.hpp"
 #include "core/inertial/wheel_use_config.hpp"
@@ -108,6 +110,10 @@ class Odometry {
     std::optional<GyroTrack> gyro_scan, gyro_interval;
     // Wheel odometry from the previous scan's middle to this one's (not covered: none).
     std::optional<WheelTrack> wheel_interval;
+    // The accelerometer over the same interval (config_.accelerometer; not covered: none), and
+    // the velocity it predicts at this scan's middle (world) once gravity is known.
+    std::optional<VelocityIncrement> accel_interval;
+    std::optional<Eigen::Vector3d> accel_velocity;
   };
   // The gyro's tracks for a scan starting at t_start; `why` says whether they cover it.
   struct GyroTracks {
@@ -119,6 +125,12 @@ class Odometry {
   // The wheels' translation covariance in the world frame, inverted (the prior's information).
   Eigen::Matrix3d WheelTranslationInformation(const Frame& frame) const;
   void DropOldWheelSamples();
+  // The accelerometer (odometry_accel.cpp).
+  std::optional<VelocityIncrement> TrackAccel(const GyroTracks& gyro,
+                                              std::optional<AccelCoverage>& why) const;
+  bool UsesAccel(const Frame& frame) const;
+  void PredictWithAccel(Frame& frame, double dt) const;
+  void LearnGravity(const Frame& frame, const Eigen::Vector3d& velocity_before, double dt);
   // With `gyro`: its rotation through the scan, the constant velocity's translation.
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity,
                                     const GyroTrack* gyro = nullptr) const;
@@ -144,11 +156,15 @@ class Odometry {
   // Scans dt apart follow each other (a sparser stream, kept at 2-5 Hz, or after drops: not).
   bool Consecutive(double dt) const;
   // The constant-velocity prediction's prior over a scan interval dt.
-  MotionPrior Prior(double dt, bool holds);
+  // measured_acceleration_sigma > 0: the velocity's change over dt was measured to within it
+  // (the accelerometer), not assumed constant.
+  MotionPrior Prior(double dt, bool holds, double measured_acceleration_sigma = 0.0);
   void CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const;
   // Full mode: the velocity after a registration, from the translation filter.
+  // `predicted_velocity` (world): the accelerometer's, else the prediction's mean velocity.
   Vector6d FilteredVelocity(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T_new,
-                            const RegistrationResult& reg, double dt);
+                            const RegistrationResult& reg, double dt,
+                            const std::optional<Eigen::Vector3d>& predicted_velocity = {});
   Matrix6d PoseCovariance(const RegistrationResult& reg);
   void RebuildMapFromFirstScan(const Vector6d& velocity);
   void Initialise(Frame& frame);
@@ -251,6 +267,12 @@ class Odometry {
   std::size_t imu_rejected_ = 0;
   std::optional<GyroBiasFilter> gyro_bias_;
   std::optional<GyroTrack> first_scan_gyro_;  // with first_scan_raw_
+  // The accelerometer (config_.accelerometer.enabled with an IMU): gravity and bias as learned,
+  // and the motion model's velocity at the last scan's middle (world frame), known once two
+  // scans in a row were registered.
+  std::optional<GravityEstimate> gravity_;
+  Eigen::Vector3d world_velocity_ = Eigen::Vector3d::Zero();
+  bool world_velocity_known_ = false;
   // Wheel odometry (EnableWheel): its use, samples (LiDAR clock) and what was refused.
   std::optional<WheelUseConfig> wheel_;
   std::vector<WheelSample> wheel_samples_;

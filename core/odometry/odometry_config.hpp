@@ -1,5 +1,6 @@
 #pragma once
 
+#include "core/inertial/accel_use_config.hpp"
 #include "core/map/map_config.hpp"
 #include "core/odometry/compact_objects.hpp"
 #include "core/odometry/moving_points.hpp"
@@ -27,6 +28,8 @@ struct OdometryConfig {
   // Small things standing on the ground (people, carts) never hold a direction the rest of the
   // scan does not observe: where they would, they stay out of registration and map.
   CompactObjectsConfig compact_objects;
+  // With an IMU (EnableImu): the accelerometer's velocity change in the motion prior.
+  AccelUseConfig accelerometer;
   double max_angular_acceleration = 5.0;  // rad/s^2: orientation prior sigma = this * dt^2
   // Between sparse scans (not consecutive at the sensor's rate), along a degenerate direction
   // a registration that lands farther from the prediction than this many of the prior's

@@ -10,6 +10,7 @@
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/se3.hpp"
 #include "core/inertial/gyro_integration.hpp"
+#include "core/inertial/velocity_increment.hpp"
 #include "core/inertial/wheel_integration.hpp"
 #include "core/odometry/tracking_health.hpp"
 #include "core/preprocess/point_times.hpp"
@@ -120,6 +121,10 @@ struct OdometryResult {
   // previous scan (kCovered: its motion was the prediction's translation and a prior), or why
   // the scan fell back to the LiDAR and the constant-velocity model; empty without it.
   std::optional<WheelCoverage> wheel;
+  // With the accelerometer on (OdometryConfig::accelerometer): whether it covered the interval,
+  // and whether its velocity change drove the motion prior (gravity learned, no wheels).
+  std::optional<AccelCoverage> accelerometer;
+  bool accelerometer_used = false;
 };
 
 }  // namespace dammloam

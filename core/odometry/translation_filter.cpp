@@ -15,12 +15,14 @@ void TranslationFilter::Reset() {
       config_.max_speed_sigma * config_.max_speed_sigma * Eigen::Matrix3d::Identity();
 }
 
-Eigen::Matrix3d TranslationFilter::Predict(double dt) {
+Eigen::Matrix3d TranslationFilter::Predict(double dt, double measured_acceleration_sigma) {
   Matrix6 F = Matrix6::Identity();
   F.topRightCorner<3, 3>() = dt * Eigen::Matrix3d::Identity();
   const double gait_dt = std::min(dt, config_.gait_time);
-  const double position_sigma = config_.acceleration * gait_dt * gait_dt;
-  const double speed_sigma = config_.speed_change * dt;
+  const bool measured = measured_acceleration_sigma > 0.0;
+  const double position_sigma = measured ? 0.5 * measured_acceleration_sigma * dt * dt
+                                         : config_.acceleration * gait_dt * gait_dt;
+  const double speed_sigma = (measured ? measured_acceleration_sigma : config_.speed_change) * dt;
   Matrix6 Q = Matrix6::Zero();
   Q.topLeftCorner<3, 3>().diagonal().setConstant(position_sigma * position_sigma);
   Q.bottomRightCorner<3, 3>().diagonal().setConstant(speed_sigma * speed_sigma);

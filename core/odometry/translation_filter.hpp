@@ -37,7 +37,9 @@ class TranslationFilter {
   // Velocity unknown (start, time gap).
   void Reset();
   // Covariance of the predicted position after dt seconds; the prior for registration.
-  Eigen::Matrix3d Predict(double dt);
+  // measured_acceleration_sigma > 0: an accelerometer measured the velocity's change to within
+  // that (m/s^2), which then replaces the gait and speed-change noise.
+  Eigen::Matrix3d Predict(double dt, double measured_acceleration_sigma = 0.0);
   // The velocity after a registration moved the position by `innovation` from the prediction,
   // with `data_information` the scan's own information on the position (without the prior).
   Eigen::Vector3d Update(const Eigen::Vector3d& predicted_velocity,

@@ -1,0 +1,52 @@
+// The accelerometer in the odometry (issues 52, 55): the velocity change it integrated between
+// the previous scan's middle and this one's drives the motion prior once gravity is learned.
+#include "core/odometry/odometry.hpp"
+
+#include <span>
+
+namespace dammloam {
+
+std::optional<VelocityIncrement> Odometry::TrackAccel(const GyroTracks& gyro,
+                                                      std::optional<AccelCoverage>& why) const {
+  if (!gravity_ || !initialised_) return std::nullopt;
+  if (!gyro.interval) {
+    why = AccelCoverage::kNoRotation;
+    return std::nullopt;
+  }
+  VelocityIncrement increment =
+      IntegrateSpecificForce(std::span<const ImuSample>(imu_samples_), *gyro.interval,
+                             imu_->T_sensor_imu, config_.accelerometer.saturation);
+  why = increment.coverage;
+  if (!increment.covered()) return std::nullopt;
+  return increment;
+}
+
+// Wheels measure the translation itself and take precedence; the velocity it starts from must
+// be the registered one of the scan before.
+bool Odometry::UsesAccel(const Frame& frame) const {
+  return frame.accel_interval && gravity_ && gravity_->ready() && world_velocity_known_ &&
+         !frame.wheel_interval && UsesMotionPrior(config_.registration.mode);
+}
+
+void Odometry::PredictWithAccel(Frame& frame, double dt) const {
+  const VelocityIncrement& increment = *frame.accel_interval;
+  const Eigen::Matrix3d& R = T_world_last_.linear();
+  const Eigen::Vector3d bias = gravity_->bias();
+  const Eigen::Vector3d change =
+      gravity_->VelocityChange(R * increment.velocity, R * increment.bias_to_velocity, dt);
+  // The bias acts on the displacement as on the velocity, over half the interval on average.
+  const Eigen::Vector3d displacement = R * (increment.displacement -
+                                            0.5 * dt * increment.bias_to_velocity * bias) +
+                                       0.5 * dt * dt * gravity_->gravity();
+  frame.T_pred.translation() = T_world_last_.translation() + dt * world_velocity_ + displacement;
+  frame.accel_velocity = world_velocity_ + change;
+}
+
+void Odometry::LearnGravity(const Frame& frame, const Eigen::Vector3d& velocity_before, double dt) {
+  if (!frame.accel_interval || !gravity_ || !Consecutive(dt)) return;
+  const Eigen::Matrix3d& R = velocity_frame_;  // the previous scan's orientation
+  gravity_->Add(world_velocity_ - velocity_before, R * frame.accel_interval->velocity,
+                R * frame.accel_interval->bias_to_velocity, dt);
+}
+
+}  // namespace dammloam
