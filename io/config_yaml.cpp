@@ -156,9 +156,12 @@ void ReadAccelerometer(Section s, AccelUseConfig& c) {
   s.Get("saturation", c.saturation);
   Section g = s.Child("gravity");
   g.Get("warmup", c.gravity.warmup);
-  g.Get("memory", c.gravity.memory);
-  g.Get("velocity_sigma", c.gravity.velocity_sigma);
+  g.Get("initial_sigma", c.gravity.initial_sigma);
   g.Get("bias_sigma", c.gravity.bias_sigma);
+  g.Get("velocity_sigma", c.gravity.velocity_sigma);
+  g.Get("gravity_walk", c.gravity.gravity_walk);
+  g.Get("bias_walk", c.gravity.bias_walk);
+  g.Get("trusted_sigma", c.gravity.trusted_sigma);
   g.RejectUnknownKeys();
   s.RejectUnknownKeys();
 }
@@ -362,9 +365,12 @@ void ValidateOdometryConfig(const OdometryConfig& c) {
           "accelerometer.acceleration_sigma", "must be > 0");
   Require(ac.saturation > 0.0, "accelerometer.saturation", "must be > 0");
   Require(ac.gravity.warmup >= 0.0, "accelerometer.gravity.warmup", "must be >= 0");
-  Require(ac.gravity.memory > 0.0, "accelerometer.gravity.memory", "must be > 0");
+  Require(ac.gravity.initial_sigma > 0.0, "accelerometer.gravity.initial_sigma", "must be > 0");
   Require(ac.gravity.velocity_sigma > 0.0, "accelerometer.gravity.velocity_sigma", "must be > 0");
   Require(ac.gravity.bias_sigma > 0.0, "accelerometer.gravity.bias_sigma", "must be > 0");
+  Require(ac.gravity.gravity_walk >= 0.0, "accelerometer.gravity.gravity_walk", "must be >= 0");
+  Require(ac.gravity.bias_walk >= 0.0, "accelerometer.gravity.bias_walk", "must be >= 0");
+  Require(ac.gravity.trusted_sigma > 0.0, "accelerometer.gravity.trusted_sigma", "must be > 0");
   Require(co.top_margin_deg >= 0.0 && co.top_margin_deg <= 90.0, "compact_objects.top_margin_deg",
           "must be in [0, 90] degrees");
   Require(c.min_points >= 1, "min_points", "must be >= 1");

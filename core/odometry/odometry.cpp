@@ -258,9 +258,11 @@ bool Odometry::Consecutive(double dt) const { return dt <= 1.5 * sensor_.scan_pe
 // sparse scans (a stream kept at 2 Hz) a trot's 0.36 rad/s pitch rate averages out, so the
 // scan's own turn rate may depart from it in proportion to the interval. Its linear velocity
 // may not: freed, it let a 2 Hz corridor walk (seed 3) slide 10 m along the weak axis.
-MotionPrior Odometry::Prior(double dt, bool holds, double measured_acceleration_sigma) {
+MotionPrior Odometry::Prior(double dt, bool holds, double measured_acceleration_sigma,
+                           const Eigen::Matrix3d& measured) {
   if (!UsesMotionPrior(config_.registration.mode)) return {holds, {}, 0.0};
-  const Eigen::Matrix3d covariance = translation_filter_.Predict(dt, measured_acceleration_sigma);
+  const Eigen::Matrix3d covariance =
+      translation_filter_.Predict(dt, measured_acceleration_sigma, measured);
   const double sparse = Consecutive(dt) ? 1.0 : dt / sensor_.scan_period;
   return {holds, covariance.ldlt().solve(Eigen::Matrix3d::Identity()),
           config_.max_angular_acceleration * dt * dt, config_.in_scan_velocity_sigma,
@@ -386,7 +388,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
       UpdateMotionModel(frame, reg, dt, result.status);
       result.accelerometer_used = frame.accel_velocity.has_value();
       if (velocity_known && result.tracking == Tracking::kTracking) {
-        LearnGravity(frame, velocity_before, dt);
+        LearnGravity(frame, reg, velocity_before, dt);
       }
     }
   }
@@ -932,7 +934,9 @@ Eigen::Matrix3d Odometry::GyroRotationInformation(const Frame& frame) const {
 // information keeps the directions it observes.
 MotionPrior Odometry::PriorFor(const Frame& frame, double dt, bool holds) {
   MotionPrior prior =
-      Prior(dt, holds, frame.accel_velocity ? config_.accelerometer.acceleration_sigma : 0.0);
+      frame.accel_velocity
+          ? Prior(dt, holds, config_.accelerometer.acceleration_sigma, frame.accel_trusted)
+          : Prior(dt, holds);
   if (!UsesMotionPrior(config_.registration.mode)) return prior;
   if (frame.wheel_interval) prior.translation_information = WheelTranslationInformation(frame);
   if (!frame.gyro_interval) return prior;

@@ -70,6 +70,9 @@ class Odometry {
   std::size_t imu_samples_rejected() const { return imu_rejected_; }
   // The gyro bias estimate (IMU frame, rad/s); empty without EnableImu.
   std::optional<Eigen::Vector3d> gyro_bias() const;
+  // With the accelerometer on (config accelerometer.enabled and EnableImu): gravity and its bias
+  // as learned so far; null otherwise.
+  const GravityEstimate* gravity_estimate() const { return gravity_ ? &*gravity_ : nullptr; }
   // Issue 55: use wheel odometry (the base twist, base frame at config.T_sensor_base). Without
   // this call, or while no samples cover a scan interval, that scan's prediction is the
   // constant-velocity model's, bit-identical to before.
@@ -114,6 +117,9 @@ class Odometry {
     // the velocity it predicts at this scan's middle (world) once gravity is known.
     std::optional<VelocityIncrement> accel_interval;
     std::optional<Eigen::Vector3d> accel_velocity;
+    // With it: the directions (world projector) along which the accelerometer was used; along
+    // the others the constant-velocity model stands.
+    Eigen::Matrix3d accel_trusted = Eigen::Matrix3d::Zero();
   };
   // The gyro's tracks for a scan starting at t_start; `why` says whether they cover it.
   struct GyroTracks {
@@ -130,7 +136,8 @@ class Odometry {
                                               std::optional<AccelCoverage>& why) const;
   bool UsesAccel(const Frame& frame) const;
   void PredictWithAccel(Frame& frame, double dt) const;
-  void LearnGravity(const Frame& frame, const Eigen::Vector3d& velocity_before, double dt);
+  void LearnGravity(const Frame& frame, const RegistrationResult& reg,
+                    const Eigen::Vector3d& velocity_before, double dt);
   // With `gyro`: its rotation through the scan, the constant velocity's translation.
   Eigen::Isometry3d DeskewToMidScan(ClassifiedScan& scan, const Vector6d& velocity,
                                     const GyroTrack* gyro = nullptr) const;
@@ -158,7 +165,8 @@ class Odometry {
   // The constant-velocity prediction's prior over a scan interval dt.
   // measured_acceleration_sigma > 0: the velocity's change over dt was measured to within it
   // (the accelerometer), not assumed constant.
-  MotionPrior Prior(double dt, bool holds, double measured_acceleration_sigma = 0.0);
+  MotionPrior Prior(double dt, bool holds, double measured_acceleration_sigma = 0.0,
+                    const Eigen::Matrix3d& measured = Eigen::Matrix3d::Zero());
   void CorrectInScanMotion(Frame& frame, const RegistrationResult& reg) const;
   // Full mode: the velocity after a registration, from the translation filter.
   // `predicted_velocity` (world): the accelerometer's, else the prediction's mean velocity.

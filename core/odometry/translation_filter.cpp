@@ -15,17 +15,25 @@ void TranslationFilter::Reset() {
       config_.max_speed_sigma * config_.max_speed_sigma * Eigen::Matrix3d::Identity();
 }
 
-Eigen::Matrix3d TranslationFilter::Predict(double dt, double measured_acceleration_sigma) {
+Eigen::Matrix3d TranslationFilter::Predict(double dt, double measured_acceleration_sigma,
+                                           const Eigen::Matrix3d& measured) {
   Matrix6 F = Matrix6::Identity();
   F.topRightCorner<3, 3>() = dt * Eigen::Matrix3d::Identity();
   const double gait_dt = std::min(dt, config_.gait_time);
-  const bool measured = measured_acceleration_sigma > 0.0;
-  const double position_sigma = measured ? 0.5 * measured_acceleration_sigma * dt * dt
-                                         : config_.acceleration * gait_dt * gait_dt;
-  const double speed_sigma = (measured ? measured_acceleration_sigma : config_.speed_change) * dt;
+  const double position_sigma = config_.acceleration * gait_dt * gait_dt;
+  const double speed_sigma = config_.speed_change * dt;
   Matrix6 Q = Matrix6::Zero();
   Q.topLeftCorner<3, 3>().diagonal().setConstant(position_sigma * position_sigma);
   Q.bottomRightCorner<3, 3>().diagonal().setConstant(speed_sigma * speed_sigma);
+  if (measured_acceleration_sigma > 0.0) {
+    const Eigen::Matrix3d unmeasured = Eigen::Matrix3d::Identity() - measured;
+    const double a_position = 0.5 * measured_acceleration_sigma * dt * dt;
+    const double a_speed = measured_acceleration_sigma * dt;
+    Q.topLeftCorner<3, 3>() = unmeasured * Q.topLeftCorner<3, 3>() * unmeasured +
+                              a_position * a_position * measured;
+    Q.bottomRightCorner<3, 3>() = unmeasured * Q.bottomRightCorner<3, 3>() * unmeasured +
+                                  a_speed * a_speed * measured;
+  }
   P_ = F * P_ * F.transpose() + Q;
   // A blind stretch would let the velocity's uncertainty grow without end; a carrier's speed
   // does not.

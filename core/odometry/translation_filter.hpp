@@ -37,9 +37,11 @@ class TranslationFilter {
   // Velocity unknown (start, time gap).
   void Reset();
   // Covariance of the predicted position after dt seconds; the prior for registration.
-  // measured_acceleration_sigma > 0: an accelerometer measured the velocity's change to within
-  // that (m/s^2), which then replaces the gait and speed-change noise.
-  Eigen::Matrix3d Predict(double dt, double measured_acceleration_sigma = 0.0);
+  // measured_acceleration_sigma > 0: along the directions `measured` projects onto (world), an
+  // accelerometer measured the velocity's change to within that (m/s^2), which there replaces
+  // the gait and speed-change noise.
+  Eigen::Matrix3d Predict(double dt, double measured_acceleration_sigma = 0.0,
+                          const Eigen::Matrix3d& measured = Eigen::Matrix3d::Zero());
   // The velocity after a registration moved the position by `innovation` from the prediction,
   // with `data_information` the scan's own information on the position (without the prior).
   Eigen::Vector3d Update(const Eigen::Vector3d& predicted_velocity,

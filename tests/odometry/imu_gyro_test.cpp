@@ -46,9 +46,9 @@ struct Outcome {
 
 // Samples are handed over up to each scan's end, as a live stream would have them.
 Outcome Track(const SimRun& run, bool with_imu, const std::vector<ImuSample>* imu = nullptr,
-              const GyroUseConfig& gyro = {}) {
+              const GyroUseConfig& gyro = {}, const OdometryConfig& config = {}) {
   const std::vector<ImuSample>& samples = imu ? *imu : run.imu;
-  OdometryPipeline pipeline(OdometryConfig{}, run.sequence.model);
+  OdometryPipeline pipeline(config, run.sequence.model);
   if (with_imu) pipeline.odometry().EnableImu(run.description, gyro);
   Outcome out;
   std::size_t next = 0;
@@ -180,6 +180,47 @@ TEST(ImuGyro, AGapAndAClippedReadingFallBackWithoutAJump) {
     EXPECT_NE(out.results[i].tracking, Tracking::kLost) << "scan " << i;
   }
   EXPECT_LT(errors.worst_frame_m, 0.05);
+}
+
+// The accelerometer (accelerometer.enabled): a NaN force reading and one clipped at full scale
+// make the scans they fall in fall back to the constant-velocity model (counted, with the
+// reason), the others use it once gravity is learned, and none of them jumps.
+TEST(ImuAccel, NonFiniteAndClippedForcesFallBackWithoutAJump) {
+  SimRun run = Aggressive();
+  run.sequence.scans.resize(120);
+  const double t0 = run.sequence.scans.front().t_start;
+  std::vector<ImuSample> faulty = run.imu;
+  for (ImuSample& s : faulty) {
+    if (std::abs(s.t - (t0 + 5.0)) < 0.004) s.linear_acceleration.x() = std::nan("");
+    if (std::abs(s.t - (t0 + 8.0)) < 0.004) s.linear_acceleration.z() = 16.0 * 9.80665;
+  }
+  OdometryConfig config;
+  config.accelerometer.enabled = true;
+  const Outcome out = Track(run, true, &faulty, {}, config);
+  std::size_t nan = 0, clipped = 0, used = 0;
+  for (const OdometryResult& r : out.results) {
+    nan += r.accelerometer == AccelCoverage::kNonFinite ? 1 : 0;
+    clipped += r.accelerometer == AccelCoverage::kSaturated ? 1 : 0;
+    used += r.accelerometer_used ? 1 : 0;
+    if (r.accelerometer && *r.accelerometer != AccelCoverage::kCovered) {
+      EXPECT_FALSE(r.accelerometer_used);
+    }
+  }
+  // Each bad sample lies in one interval between two scans' middles (two if it sits on a
+  // middle).
+  EXPECT_GE(nan, 1u);
+  EXPECT_LE(nan, 2u);
+  EXPECT_GE(clipped, 1u);
+  EXPECT_LE(clipped, 2u);
+  // Gravity's direction is taken after a second of tracking and trusted once the registrations
+  // have pinned it (here after about 3 s); from then on every sound interval uses it.
+  std::printf("accelerometer used on %zu of %zu scans\n", used, out.results.size());
+  EXPECT_GE(used, 80u);
+  const bench::TrajectoryErrors errors = bench::EvaluateEstimate(run.sequence.ground_truth, out.estimate);
+  std::printf("handheld-aggressive VLP-16 120 scans with the accelerometer: APE %.4f m, worst frame %.4f m\n",
+              errors.ape_rmse, errors.worst_frame_m);
+  EXPECT_LT(errors.worst_frame_m, 0.05);
+  EXPECT_LT(errors.ape_rmse, 0.1);
 }
 
 }  // namespace

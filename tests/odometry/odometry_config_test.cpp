@@ -101,6 +101,16 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(min_points);
   DAMMLOAM_EXPECT_SAME(max_time_gap);
   DAMMLOAM_EXPECT_SAME(motion_model_max_deviation);
+  DAMMLOAM_EXPECT_SAME(accelerometer.enabled);
+  DAMMLOAM_EXPECT_SAME(accelerometer.acceleration_sigma);
+  DAMMLOAM_EXPECT_SAME(accelerometer.saturation);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.warmup);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.initial_sigma);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.gravity_walk);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.bias_walk);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.trusted_sigma);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.velocity_sigma);
+  DAMMLOAM_EXPECT_SAME(accelerometer.gravity.bias_sigma);
   DAMMLOAM_EXPECT_SAME(health.reference_scans);
   DAMMLOAM_EXPECT_SAME(health.degraded_pair_share);
   DAMMLOAM_EXPECT_SAME(health.lost_pair_share);
@@ -199,6 +209,14 @@ TEST(OdometryConfigYaml, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("motion_prior: {in_scan_velocity_sigma: 0, in_scan_rate_sigma: 0,\n"
                     "               in_scan_angular_acceleration_sigma: 1}")
                 .find("motion_prior.in_scan_angular_acceleration_sigma: needs the in-scan motion"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("accelerometer: {acceleration_sigma: 0}")
+                .find("accelerometer.acceleration_sigma: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("accelerometer: {gravity: {trusted_sigma: -1}}")
+                .find("accelerometer.gravity.trusted_sigma: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("accelerometer: {gravity: {window: 3}}").find("accelerometer.gravity.window: unknown key"),
             std::string::npos);
   EXPECT_NE(ErrorOf("map: {voxel_size: .inf}")
                 .find("map.voxel_size: expected a finite number, got '.inf'"),

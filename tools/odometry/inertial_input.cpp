@@ -122,6 +122,7 @@ void ImuFeed::Through(double t) {
 void ImuFeed::Count(const OdometryResult& result) {
   ++scans_;
   if (result.gyro) ++by_coverage_[static_cast<std::size_t>(*result.gyro)];
+  accelerometer_used_ += result.accelerometer_used ? 1 : 0;
 }
 
 void ImuFeed::Log() const {
@@ -141,6 +142,12 @@ void ImuFeed::Log() const {
                "rejected (out of order); gyro bias estimate {:.4f} {:.4f} {:.4f} deg/s",
                used, scans_, scans_ - used, why.empty() ? "" : " (", why, why.empty() ? "" : ")",
                odometry_.imu_samples_rejected(), bias.x(), bias.y(), bias.z());
+  if (const GravityEstimate* g = odometry_.gravity_estimate()) {
+    const Eigen::Vector3d b = g->bias();
+    spdlog::info("IMU: accelerometer drove the motion prior on {} of {} scans; gravity {:.3f} m/s^2, "
+                 "accelerometer bias estimate {:.3f} {:.3f} {:.3f} m/s^2",
+                 accelerometer_used_, scans_, g->gravity().norm(), b.x(), b.y(), b.z());
+  }
 }
 
 WheelFeed::WheelFeed(const InertialInput& input, Odometry& odometry) : odometry_(odometry) {

@@ -47,6 +47,7 @@ class ImuFeed {
   std::size_t next_ = 0;
   std::size_t scans_ = 0;
   std::array<std::size_t, 8> by_coverage_{};  // indexed by GyroCoverage
+  std::size_t accelerometer_used_ = 0;
 };
 
 // Hands the wheel samples to the odometry scan by scan, as ImuFeed does the IMU's, and counts

@@ -13,7 +13,7 @@ StatsCsv::StatsCsv(const std::filesystem::path& file) : out_(file), file_(file) 
           "downsample_ms,registration_ms,map_update_ms,total_ms,alpha,lambda0,lambda1,lambda2,"
           "degenerate0,degenerate1,degenerate2,iterations,converged,correspondences,"
           "n_unknown,n_ground,n_roof,n_wall,n_edge,n_moving,map_points,rss_mib,"
-          "searched_points,point_times,tracking,paired_share,innovation,turn_innovation_deg,gyro,set_aside\n";
+          "searched_points,point_times,tracking,paired_share,innovation,turn_innovation_deg,gyro,set_aside,accelerometer\n";
 }
 
 void StatsCsv::Write(const OdometryResult& r) {
@@ -30,7 +30,8 @@ void StatsCsv::Write(const OdometryResult& r) {
   out_ << ',' << r.map_points << ',' << io::ResidentSetMiB() << ','
        << r.searched_points << ',' << Name(r.point_times) << ',' << Name(r.tracking) << ','
        << r.paired_share << ',' << r.innovation << ',' << r.turn_innovation_deg << ','
-       << (r.gyro ? Name(*r.gyro) : "off") << ',' << r.set_aside_points << '\n';
+       << (r.gyro ? Name(*r.gyro) : "off") << ',' << r.set_aside_points << ','
+       << (r.accelerometer_used ? "used" : r.accelerometer ? Name(*r.accelerometer) : "off") << '\n';
   if (!out_) throw std::runtime_error(file_.string() + ": write failed");
 }
 
