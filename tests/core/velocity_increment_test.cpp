@@ -130,7 +130,11 @@ TEST(GravityEstimate, PredictsAScansVelocityChangeFromNoisyRegisteredChanges) {
   for (double t = 0.05; t + 0.1 <= 12.0; t += 0.1) {
     const VelocityIncrement inc = Integrate(samples, T_si, t, t + 0.1);
     ASSERT_TRUE(inc.covered());
-    const Eigen::Vector3d measured = m.v(t + 0.1) - m.v(t) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    // Drawn in sequence: the order of a constructor's arguments is unspecified, and a release
+    // and a sanitizer build gave the axes different draws.
+    Eigen::Vector3d error;
+    for (int i = 0; i < 3; ++i) error(i) = noise(rng);
+    const Eigen::Vector3d measured = m.v(t + 0.1) - m.v(t) + error;
     estimate.Add(measured, m.R(t) * inc.velocity, m.R(t) * inc.bias_to_velocity, 0.1);
     if (t < 0.9) {
       EXPECT_FALSE(estimate.ready()) << t;
@@ -148,7 +152,10 @@ TEST(GravityEstimate, PredictsAScansVelocityChangeFromNoisyRegisteredChanges) {
   }
   std::printf("worst velocity change error: estimate %.5f m/s, true gravity without bias %.5f m/s\n",
               worst, naive);
-  EXPECT_LT(worst, 0.006);
+  // 2 cm/s noise on each of 119 changes leaves gravity known to ~0.018 m/s^2 per axis, ~3 mm/s
+  // over a scan interval; the worst of 19 intervals stays under 8 mm/s (4.0 and 6.1 were seen
+  // with two noise draws), half of what the bias alone costs.
+  EXPECT_LT(worst, 0.008);
   EXPECT_GT(naive, 0.012);
   const Eigen::Matrix3d B = m.R(12.0) * Integrate(samples, T_si, 12.0, 12.1).bias_to_velocity;
   EXPECT_TRUE(estimate.Trusted(B, 0.1).isApprox(Eigen::Matrix3d::Identity(), 1e-9));
