@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace dammloam {
 namespace {
@@ -74,35 +75,82 @@ void VoxelHashMap::AddPoints(const std::vector<MapPoint>& points,
     // One lookup; a new voxel always receives the point, so no block is left empty.
     VoxelBlock& block = map_[voxels[i]];
     const std::size_t c = Index(p.label);
-    if (block.ClassEnd(c) - block.ClassBegin(c) >= max_points_per_voxel_) continue;
-    const bool sampled = std::any_of(block.ClassBegin(c), block.ClassEnd(c), [&](const MapPoint& q) {
-      return (q.position - p.position).squaredNorm() < min_spacing_sq;
-    });
-    if (sampled) continue;
-    // A voxel fills one point at a time over many revisits; capacity doubling would leave a
-    // third of the map's memory as slack and make it grow in steps long after the scene is mapped.
-    if (block.points.size() == block.points.capacity()) {
-      block.points.reserve(block.points.size() + kPointsPerGrowth);
+    if (block.size() > 0) {  // a new voxel has no run in the pool yet
+      if (ClassEnd(block, c) - ClassBegin(block, c) >= max_points_per_voxel_) continue;
+      const bool sampled =
+          std::any_of(ClassBegin(block, c), ClassEnd(block, c), [&](const MapPoint& q) {
+            return (q.position - p.position).squaredNorm() < min_spacing_sq;
+          });
+      if (sampled) continue;
     }
+    if (block.size() == block.capacity) Grow(block);
     changes_.Add(voxels[i], block);
-    block.points.insert(block.points.begin() + block.begin[c + 1], p);
+    MapPoint* range = pool_.At(block.first);
+    std::copy_backward(range + block.begin[c + 1], range + block.size(), range + block.size() + 1);
+    range[block.begin[c + 1]] = p;
     for (std::size_t k = c + 1; k <= kNumPointClasses; ++k) ++block.begin[k];
     ++num_points_;
   }
+  CompactIfSparse();
+}
+
+void VoxelHashMap::Grow(VoxelBlock& block) {
+  // A voxel fills one point at a time over many revisits; room for a few more, not doubling,
+  // or a third of the map's memory would be slack.
+  const std::size_t wanted = std::size_t{block.capacity} + kPointsPerGrowth;
+  if (block.capacity > 0 && pool_.CanExtend(block.first, block.capacity, kPointsPerGrowth)) {
+    pool_.Append(kPointsPerGrowth);
+  } else {
+    // The voxel is full (size == capacity): it moves to the end, its old run becomes a hole.
+    const std::uint32_t first = pool_.Append(wanted);
+    std::copy_n(pool_.At(block.first), block.size(), pool_.At(first));
+    block.first = first;
+  }
+  owned_ += kPointsPerGrowth;
+  block.capacity = static_cast<std::uint16_t>(wanted);
+}
+
+void VoxelHashMap::CompactIfSparse() {
+  constexpr std::size_t kMinSlots = 4096;  // below this, holes cost nothing worth a pass
+  const std::size_t holes = pool_.end() - owned_;
+  if (pool_.end() >= kMinSlots && 3 * holes >= pool_.end()) Compact();
+}
+
+void VoxelHashMap::Compact() {
+  // Runs in pool order only ever move towards the front (a run that would cross a page goes to
+  // the next page's start, where its old place was too), so no second buffer is needed.
+  std::vector<VoxelBlock*> order;
+  order.reserve(map_.size());
+  for (auto it = map_.begin(); it != map_.end(); ++it) order.push_back(&it.value());
+  std::sort(order.begin(), order.end(),
+            [](const VoxelBlock* a, const VoxelBlock* b) { return a->first < b->first; });
+  std::size_t next = 0;
+  owned_ = 0;
+  for (VoxelBlock* block : order) {
+    const std::uint32_t first = PointPool::Place(next, block->size());
+    if (block->first != first) std::copy_n(pool_.At(block->first), block->size(), pool_.At(first));
+    block->first = first;
+    block->capacity = static_cast<std::uint16_t>(block->size());
+    next = first + block->size();
+    owned_ += block->size();
+  }
+  pool_.Truncate(next);
 }
 
 void VoxelHashMap::RemoveFarVoxels(const Eigen::Vector3d& origin) {
   const double max_sq = max_distance_ * max_distance_;
   for (auto it = map_.begin(); it != map_.end();) {
-    const Eigen::Vector3d& p = it->second.points.front().position;
+    const Eigen::Vector3d& p = pool_.At(it->second.first)->position;
     if ((p - origin).squaredNorm() > max_sq) {
       changes_.Add(it->first, it.value());
-      num_points_ -= it->second.points.size();
+      num_points_ -= it->second.size();
+      Release(it->second);
       it = map_.erase(it);
     } else {
       ++it;
     }
   }
+  CompactIfSparse();
 }
 
 void VoxelHashMap::ChangeLog::Add(const Voxel& voxel, VoxelBlock& block) {
@@ -195,8 +243,8 @@ VoxelHashMap::NearestPoint VoxelHashMap::Nearest(const Eigen::Vector3d& query,
     const auto it = map_.find(centre + Voxel(offset[0], offset[1], offset[2]));
     if (it == map_.end()) continue;
     const VoxelBlock& block = it->second;
-    const MapPoint* first = label ? block.ClassBegin(Index(*label)) : block.points.data();
-    const MapPoint* last = label ? block.ClassEnd(Index(*label)) : block.points.data() + block.points.size();
+    const MapPoint* first = label ? ClassBegin(block, Index(*label)) : PointsBegin(block);
+    const MapPoint* last = label ? ClassEnd(block, Index(*label)) : PointsEnd(block);
     for (const MapPoint* p = first; p != last; ++p) {
       const double d_sq = (p->position - query).squaredNorm();
       if (d_sq < nearest_sq) {
@@ -241,7 +289,7 @@ void VoxelHashMap::ForEachPointAround(const Eigen::Vector3d& point, Visit visit)
   for (const auto& offset : kNeighbourOffsets) {
     const auto it = map_.find(voxel + Voxel(offset[0], offset[1], offset[2]));
     if (it == map_.end()) continue;
-    for (const MapPoint& p : it->second.points) visit(p);
+    std::for_each(PointsBegin(it->second), PointsEnd(it->second), visit);
   }
 }
 
@@ -281,7 +329,7 @@ Eigen::Matrix3d VoxelHashMap::NormalScatterOf(const Eigen::Vector3d& point, int&
 std::vector<MapPoint> VoxelHashMap::Points() const {
   std::vector<MapPoint> out;
   out.reserve(NumPoints());
-  for (const auto& [voxel, block] : map_) out.insert(out.end(), block.points.begin(), block.points.end());
+  for (const auto& [voxel, block] : map_) out.insert(out.end(), PointsBegin(block), PointsEnd(block));
   return out;
 }
 

@@ -11,15 +11,10 @@
 
 #include "core/geometry/point_class.hpp"
 #include "core/geometry/voxel.hpp"
+#include "core/map/map_point.hpp"
+#include "core/map/point_pool.hpp"
 
 namespace dammloam {
-
-// One map point, world frame. The normal is zero where the feature stage had none.
-struct MapPoint {
-  Eigen::Vector3d position;
-  Eigen::Vector3f normal;
-  PointClass label;
-};
 
 // Sparse voxel grid of labelled points with normals (KISS-ICP's map, plus class and normal).
 // Neighbour search looks at the 27 voxels around a query and, when asked for a class, only at
@@ -95,6 +90,8 @@ class VoxelHashMap {
   bool empty() const { return map_.empty(); }
   void Clear() {
     map_.clear();
+    pool_.Clear();
+    owned_ = 0;
     num_points_ = 0;
     last_crop_origin_.reset();
     changes_.Reset();
@@ -105,16 +102,38 @@ class VoxelHashMap {
  private:
   // AddPoints with each point's voxel already known (voxels[i] holds points[i]).
   void AddPoints(const std::vector<MapPoint>& points, const std::vector<Voxel>& voxels);
-  // One contiguous array per voxel, grouped by class so that a class-wise query scans only its
-  // own class: class c is points[begin[c], begin[c + 1]). One allocation per voxel and small
-  // hash buckets keep the 27-voxel search in cache.
+  // A voxel's points are a run of the map's PointPool, grouped by class so that a class-wise
+  // query scans only its own class: class c is slots [first + begin[c], first + begin[c + 1]).
+  // The hash bucket holds only this 24-byte handle (40 bytes with its key; 72 with a
+  // std::vector per voxel), and a search's 27 voxels lie in a few pages, not 27 heap blocks.
   struct VoxelBlock {
-    std::vector<MapPoint> points;
+    std::uint32_t first = 0;     // the pool slot of the voxel's first point
+    std::uint16_t capacity = 0;  // slots owned from `first` (holds size() points)
     std::array<std::uint16_t, kNumPointClasses + 1> begin{};
     std::uint32_t listed_in = 0;  // the ChangeLog::list this voxel was last put on
-    const MapPoint* ClassBegin(std::size_t c) const { return points.data() + begin[c]; }
-    const MapPoint* ClassEnd(std::size_t c) const { return points.data() + begin[c + 1]; }
+    std::size_t size() const { return begin[kNumPointClasses]; }
   };
+  const MapPoint* ClassBegin(const VoxelBlock& block, std::size_t c) const {
+    return pool_.At(block.first) + block.begin[c];
+  }
+  const MapPoint* ClassEnd(const VoxelBlock& block, std::size_t c) const {
+    return pool_.At(block.first) + block.begin[c + 1];
+  }
+  const MapPoint* PointsBegin(const VoxelBlock& block) const { return pool_.At(block.first); }
+  const MapPoint* PointsEnd(const VoxelBlock& block) const {
+    return pool_.At(block.first) + block.size();
+  }
+  // Gives a full voxel room for kPointsPerGrowth more points: in place when it ends the pool,
+  // else in a new run at the end (the old one becomes a hole).
+  void Grow(VoxelBlock& block);
+  // The voxel's run is a hole from now on.
+  void Release(const VoxelBlock& block) { owned_ -= block.capacity; }
+  // Compact() once holes are a third of the slots handed out: they would spread a search over
+  // more memory and keep growing the pool.
+  void CompactIfSparse();
+  // Closes the holes in place; voxels keep their order in the pool and are left without spare
+  // slots.
+  void Compact();
   // Calls visit(point) for every map point in the 27 voxels around the one holding `point`.
   template <typename Visit>
   void ForEachPointAround(const Eigen::Vector3d& point, Visit visit) const;
@@ -148,6 +167,8 @@ class VoxelHashMap {
   double max_distance_;
   int max_points_per_voxel_;
   tsl::robin_map<Voxel, VoxelBlock, VoxelHash> map_;
+  PointPool pool_;
+  std::size_t owned_ = 0;  // pool slots owned by voxels; the rest of pool_.end() are holes
   std::size_t num_points_ = 0;
   std::optional<Eigen::Vector3d> last_crop_origin_;
   ChangeLog changes_;
@@ -161,7 +182,8 @@ std::size_t VoxelHashMap::RemovePointsIf(const Eigen::Vector3d& origin, double r
   std::size_t removed = 0;
   for (auto it = map_.begin(); it != map_.end();) {
     VoxelBlock& block = it.value();
-    if ((block.points.front().position - origin).squaredNorm() > reach_sq) {
+    MapPoint* points = pool_.At(block.first);
+    if ((points[0].position - origin).squaredNorm() > reach_sq) {
       ++it;
       continue;
     }
@@ -170,11 +192,11 @@ std::size_t VoxelHashMap::RemovePointsIf(const Eigen::Vector3d& origin, double r
     for (std::size_t c = 0; c < kNumPointClasses; ++c) {
       begin[c] = static_cast<std::uint16_t>(kept);
       for (std::size_t k = block.begin[c]; k < block.begin[c + 1]; ++k) {
-        if (!remove(static_cast<const MapPoint&>(block.points[k]))) block.points[kept++] = block.points[k];
+        if (!remove(static_cast<const MapPoint&>(points[k]))) points[kept++] = points[k];
       }
     }
     begin[kNumPointClasses] = static_cast<std::uint16_t>(kept);
-    const std::size_t gone = block.points.size() - kept;
+    const std::size_t gone = block.size() - kept;
     if (gone == 0) {
       ++it;
       continue;
@@ -183,13 +205,14 @@ std::size_t VoxelHashMap::RemovePointsIf(const Eigen::Vector3d& origin, double r
     removed += gone;
     num_points_ -= gone;
     if (kept == 0) {
+      Release(block);
       it = map_.erase(it);
       continue;
     }
-    block.points.resize(kept);
     block.begin = begin;
     ++it;
   }
+  CompactIfSparse();
   return removed;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "core/map/map_config.hpp"
 #include "core/map/voxel_hash_map.hpp"
@@ -185,6 +186,82 @@ TEST(VoxelHashMap, TakeChangesListsEveryChangedVoxelOnce) {
   EXPECT_EQ(map.TakeChanges().voxels, (std::vector<Voxel>{{2, 0, 0}}));
   map.Clear();
   EXPECT_TRUE(map.TakeChanges().all);
+}
+
+// Voxels grow a point at a time over many revisits, move within the map's storage when they
+// outgrow their room, and the storage closes the holes they leave: whatever the order of
+// additions and removals, the map holds exactly the points added and not removed, each found
+// where it is, with its class and normal.
+TEST(VoxelHashMap, KeepsEveryPointThroughGrowthRemovalAndCompaction) {
+  // Points on a 0.25 m lattice in 1 m voxels with room for 100 per class: none is refused (64
+  // lattice sites per voxel, spacing above the 0.1 m sampling distance), so the truth is simple.
+  VoxelHashMap map(1.0, 1000.0, 100);
+  std::mt19937 rng(5);
+  std::vector<Eigen::Vector3i> sites;
+  for (int x = 0; x < 40; ++x) {
+    for (int y = 0; y < 40; ++y) {
+      for (int z = 0; z < 12; ++z) sites.emplace_back(x, y, z);
+    }
+  }
+  std::shuffle(sites.begin(), sites.end(), rng);
+  auto point_at = [](const Eigen::Vector3i& site) {
+    const PointClass label = site.sum() % 3 == 0 ? PointClass::Wall : PointClass::Ground;
+    const Eigen::Vector3f normal = Eigen::Vector3f::Unit(site.x() % 3);
+    return MapPoint{site.cast<double>() * 0.25, normal, label};
+  };
+  std::vector<MapPoint> truth;
+  auto key = [](const MapPoint& p) {
+    return std::make_tuple(p.position.x(), p.position.y(), p.position.z());
+  };
+  std::size_t next_site = 0;
+  for (int round = 0; round < 60; ++round) {
+    std::vector<MapPoint> batch;
+    for (int i = 0; i < 250 && next_site < sites.size(); ++i) batch.push_back(point_at(sites[next_site++]));
+    map.AddPoints(batch);
+    truth.insert(truth.end(), batch.begin(), batch.end());
+    if (round % 4 == 3) {  // people leaving: a ball's walls go
+      const Eigen::Vector3d centre(std::uniform_real_distribution<double>(0.0, 10.0)(rng),
+                                   std::uniform_real_distribution<double>(0.0, 10.0)(rng), 1.5);
+      auto gone = [&](const MapPoint& p) {
+        return p.label == PointClass::Wall && (p.position - centre).norm() < 2.5;
+      };
+      const std::size_t removed = map.RemovePointsIf(centre, 2.5, gone);
+      const std::size_t before = truth.size();
+      truth.erase(std::remove_if(truth.begin(), truth.end(), gone), truth.end());
+      ASSERT_EQ(removed, before - truth.size()) << "round " << round;
+    }
+    ASSERT_EQ(map.NumPoints(), truth.size()) << "round " << round;
+  }
+  std::vector<MapPoint> stored = map.Points();
+  ASSERT_EQ(stored.size(), truth.size());
+  auto by_position = [&](const MapPoint& a, const MapPoint& b) { return key(a) < key(b); };
+  std::sort(stored.begin(), stored.end(), by_position);
+  std::sort(truth.begin(), truth.end(), by_position);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    ASSERT_EQ(stored[i].position, truth[i].position) << i;
+    ASSERT_EQ(stored[i].label, truth[i].label) << i;
+    ASSERT_EQ(stored[i].normal, truth[i].normal) << i;
+    const MapPoint* found = map.ClosestNeighbour(truth[i].position, truth[i].label);
+    ASSERT_NE(found, nullptr) << i;
+    ASSERT_EQ(found->position, truth[i].position) << i;
+  }
+  // Cropping drops whole voxels far from the sensor and keeps every point of the rest.
+  VoxelHashMap cropped(1.0, 3.0, 100);
+  cropped.AddPoints(truth);
+  cropped.RemoveFarVoxels(Eigen::Vector3d(5.0, 5.0, 1.5));
+  std::size_t near = 0;
+  for (const MapPoint& p : truth) {
+    const double d = (p.position - Eigen::Vector3d(5.0, 5.0, 1.5)).norm();
+    if (d >= 3.0 - std::sqrt(3.0)) continue;  // closer: every point of its voxel is within 3 m
+    ++near;
+    ASSERT_NE(cropped.ClosestNeighbour(p.position, p.label), nullptr);
+  }
+  EXPECT_GT(near, 100u);
+  for (const MapPoint& p : cropped.Points()) {
+    EXPECT_LT((p.position - Eigen::Vector3d(5.0, 5.0, 1.5)).norm(), 3.0 + std::sqrt(3.0));
+  }
+  cropped.AddPoints({point_at({0, 0, 0})});  // the storage takes points again after the crop
+  EXPECT_NE(cropped.ClosestNeighbour(Eigen::Vector3d::Zero(), std::nullopt), nullptr);
 }
 
 TEST(MapConfig, AutoVoxelSizeFollowsTheScene) {
