@@ -274,16 +274,12 @@ Vector6d Odometry::FilteredVelocity(const Eigen::Isometry3d& T_pred,
                                     const Eigen::Isometry3d& T_new,
                                     const RegistrationResult& reg, double dt,
                                     const std::optional<Eigen::Vector3d>& predicted_velocity) {
-  const Matrix6d& I = reg.data_information;
-  // The scan's information on the position alone (rotation marginalised out).
-  const Eigen::Matrix3d I_tt =
-      I.topLeftCorner<3, 3>() -
-      I.topRightCorner<3, 3>() * I.bottomRightCorner<3, 3>().ldlt().solve(I.bottomLeftCorner<3, 3>());
   const Eigen::Vector3d t_last = T_world_last_.translation();
   const Eigen::Vector3d v_pred =
       predicted_velocity ? *predicted_velocity : Eigen::Vector3d((T_pred.translation() - t_last) / dt);
   const Eigen::Vector3d v =
-      translation_filter_.Update(v_pred, T_new.translation() - T_pred.translation(), I_tt);
+      translation_filter_.Update(v_pred, T_new.translation() - T_pred.translation(),
+                                reg.PositionInformation());
   world_velocity_ = v;
   Eigen::Isometry3d T_velocity = T_new;
   T_velocity.translation() = t_last + v * dt;

@@ -55,13 +55,9 @@ void Odometry::LearnGravity(const Frame& frame, const RegistrationResult& reg,
                             const Eigen::Vector3d& velocity_before, double dt) {
   if (!frame.accel_interval || !gravity_ || !Consecutive(dt)) return;
   const Eigen::Matrix3d& R = velocity_frame_;  // the previous scan's orientation
-  // The scan's own information on the position (rotation marginalised out): a velocity change
-  // is two positions over dt apart, and along a direction the scans hardly see it is the
-  // prediction's own.
-  const Matrix6d& I = reg.data_information;
-  const Eigen::Matrix3d I_tt =
-      I.topLeftCorner<3, 3>() -
-      I.topRightCorner<3, 3>() * I.bottomRightCorner<3, 3>().ldlt().solve(I.bottomLeftCorner<3, 3>());
+  // A velocity change is two positions over dt apart, each known as well as the scan's own
+  // position information says; along a direction the scans hardly see it is the prediction's.
+  const Eigen::Matrix3d I_tt = reg.PositionInformation();
   constexpr double kUnobservedInformation = 1e-6;  // 1/m^2: a kilometre
   const Eigen::Matrix3d position_covariance =
       (I_tt + kUnobservedInformation * Eigen::Matrix3d::Identity()).ldlt().solve(Eigen::Matrix3d::Identity());

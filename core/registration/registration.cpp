@@ -773,6 +773,12 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
 
 }  // namespace
 
+Eigen::Matrix3d RegistrationResult::PositionInformation() const {
+  const Matrix6d& I = data_information;
+  return I.topLeftCorner<3, 3>() -
+         I.topRightCorner<3, 3>() * I.bottomRightCorner<3, 3>().ldlt().solve(I.bottomLeftCorner<3, 3>());
+}
+
 RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,

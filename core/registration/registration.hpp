@@ -27,6 +27,9 @@ struct RegistrationResult {
   bool enough_correspondences = false;  // false: the pose is the initial guess, untouched
   // Full mode: the scan's own information on the pose (without the prior), absolute units.
   Matrix6d data_information = Matrix6d::Zero();
+  // Of that, the information on the position alone (rotation marginalised out: the Schur
+  // complement), world frame, 1/m^2.
+  Eigen::Matrix3d PositionInformation() const;
   // With in-scan motion (MotionPrior::scan_velocity_sigma): how the scan's own velocity
   // departs from the one it was deskewed with, sensor frame [v (m/s); w (rad/s)]. A point
   // fired at time tau (relative to the registered frame) belongs at ExpSE3(tau * scan_twist) p.
