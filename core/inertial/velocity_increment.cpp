@@ -46,9 +46,9 @@ AccelCoverage CheckForces(std::span<const ImuSample> samples, double t0, double 
 const char* Name(AccelCoverage coverage) {
   switch (coverage) {
     case AccelCoverage::kCovered: return "covered";
-    case AccelCoverage::kNoRotation: return "no gyro track";
-    case AccelCoverage::kNonFinite: return "non-finite reading";
-    case AccelCoverage::kSaturated: return "saturated reading";
+    case AccelCoverage::kNoRotation: return "no_gyro_track";
+    case AccelCoverage::kNonFinite: return "non_finite";
+    case AccelCoverage::kSaturated: return "saturated";
   }
   return "unknown";
 }

@@ -618,6 +618,10 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.scans_with_wheel = s.scans_with_wheel;
   msg.scans_without_wheel = s.scans_without_wheel;
   ViewAsSequence(wheel, msg.wheel_by_reason);
+  std::vector<dammloam_msg_ReasonCount> accel = ReasonCounts(s.accelerometer_by_reason);
+  msg.scans_with_accelerometer = s.scans_with_accelerometer;
+  msg.scans_without_accelerometer = s.scans_without_accelerometer;
+  ViewAsSequence(accel, msg.accelerometer_by_reason);
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

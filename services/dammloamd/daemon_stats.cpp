@@ -67,6 +67,16 @@ void DaemonStats::ImuScan(std::string_view why) {
   ++counters_.imu_by_reason["scan:" + std::string(why)];
 }
 
+void DaemonStats::AccelerometerScan(std::string_view why) {
+  std::lock_guard lock(mutex_);
+  if (why.empty()) {
+    ++counters_.scans_with_accelerometer;
+    return;
+  }
+  ++counters_.scans_without_accelerometer;
+  ++counters_.accelerometer_by_reason["scan:" + std::string(why)];
+}
+
 void DaemonStats::WheelSamples(std::uint64_t taken) {
   std::lock_guard lock(mutex_);
   counters_.wheel_samples += taken;

@@ -42,6 +42,10 @@ struct StatusSnapshot {
   std::uint64_t wheel_samples = 0, wheel_samples_dropped = 0, scans_with_wheel = 0,
                 scans_without_wheel = 0;
   std::map<std::string, std::uint64_t> wheel_by_reason;
+  // The accelerometer (DaemonStatus.*accelerometer*): scans whose prior it drove, the others
+  // per "scan:<why>".
+  std::uint64_t scans_with_accelerometer = 0, scans_without_accelerometer = 0;
+  std::map<std::string, std::uint64_t> accelerometer_by_reason;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -73,6 +77,8 @@ class DaemonStats {
   void WheelSamples(std::uint64_t taken);
   void WheelSampleFault(const std::string& reason, bool dropped);
   void WheelScan(std::string_view why = {});
+  // A scan whose motion prior the accelerometer drove (why empty), or why it did not.
+  void AccelerometerScan(std::string_view why = {});
   StatusSnapshot Snapshot() const;
 
  private:

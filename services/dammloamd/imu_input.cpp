@@ -83,6 +83,11 @@ void ImuInput::Count(const OdometryResult& result) {
   } else {
     stats_.ImuScan(waited_out_ ? "wait_timeout" : Name(*result.gyro));
   }
+  if (result.accelerometer_used) {
+    stats_.AccelerometerScan();
+  } else if (result.accelerometer) {
+    stats_.AccelerometerScan(Name(*result.accelerometer));
+  }
 }
 
 void ImuInput::Take() {

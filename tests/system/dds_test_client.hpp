@@ -61,6 +61,8 @@ struct ReceivedStatus {
   std::uint64_t wheel_samples = 0, wheel_samples_dropped = 0, scans_with_wheel = 0,
                 scans_without_wheel = 0;
   std::map<std::string, std::uint64_t> wheel_by_reason;
+  std::uint64_t scans_with_accelerometer = 0, scans_without_accelerometer = 0;
+  std::map<std::string, std::uint64_t> accelerometer_by_reason;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
@@ -71,12 +73,17 @@ inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
                    m.tracking, m.scans_degraded, m.scans_lost, m.scans_without_point_times,
                    m.imu_samples, m.imu_samples_dropped, m.scans_with_imu, m.scans_without_imu, {},
                    m.wheel_samples, m.wheel_samples_dropped, m.scans_with_wheel,
-                   m.scans_without_wheel, {}};
+                   m.scans_without_wheel, {}, m.scans_with_accelerometer,
+                   m.scans_without_accelerometer, {}};
   for (std::uint32_t i = 0; i < m.imu_by_reason._length; ++i) {
     s.imu_by_reason[m.imu_by_reason._buffer[i].reason] = m.imu_by_reason._buffer[i].count;
   }
   for (std::uint32_t i = 0; i < m.wheel_by_reason._length; ++i) {
     s.wheel_by_reason[m.wheel_by_reason._buffer[i].reason] = m.wheel_by_reason._buffer[i].count;
+  }
+  for (std::uint32_t i = 0; i < m.accelerometer_by_reason._length; ++i) {
+    const auto& r = m.accelerometer_by_reason._buffer[i];
+    s.accelerometer_by_reason[r.reason] = r.count;
   }
   for (std::uint32_t i = 0; i < m.refused_by_reason._length; ++i) {
     s.refused_by_reason[m.refused_by_reason._buffer[i].reason] = m.refused_by_reason._buffer[i].count;

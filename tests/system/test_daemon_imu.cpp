@@ -80,11 +80,12 @@ struct Driven {
 // Lock-step, as dammloam-replay does it: before each scan the samples up to its horizon and the
 // first regular one past it, then the cloud, then wait for its pose.
 Driven Drive(std::uint32_t domain, bool ros2, const sim::Simulator& simulator, int scans,
-          const std::vector<Sent>& sent, double time_offset) {
+          const std::vector<Sent>& sent, double time_offset,
+          const OdometryConfig& odometry = OdometryConfig{}) {
   daemon::DaemonConfig config = PipelineTestConfig(domain, simulator);
   config.ros2.enabled = ros2;
   config.imu.description.time_offset = time_offset;
-  daemon::Daemon daemon(config, OdometryConfig{});
+  daemon::Daemon daemon(config, odometry);
   daemon.Start();
   DdsTestClient client(domain);
   ImuWriter imu(domain, ros2);
@@ -214,6 +215,44 @@ TEST_F(DaemonImu, Ros2ImuGivesThePosesOfTheNativeImuTopic) {
                   .angle(),
               1e-9)
         << "scan " << i;
+  }
+}
+
+// The accelerometer on (odometry config): once gravity is learned (a one-second warm-up, then
+// about two seconds of registered velocity changes) its velocity change drives the motion prior, and Status counts the scans it drove and why the
+// others it did not; a NaN force costs its interval the accelerometer, never the scan.
+TEST_F(DaemonImu, TheAccelerometersScansAreCountedAndANanForceCostsOnlyItsInterval) {
+  constexpr int kScans = 60;
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  const sim::InertialStreams streams = sim::SimulateInertialStreams(simulator, kScans, {});
+  const double offset = streams.imu_options.description.time_offset;
+  std::vector<Sent> sent;
+  for (const ImuSample& s : *streams.imu) sent.push_back({s});
+  const double nan_at = simulator.ScanStartTime(50) + 0.05 + offset;
+  sent[Nearest(sent, nan_at)].sample.linear_acceleration.y() =
+      std::numeric_limits<double>::quiet_NaN();
+  OdometryConfig odometry;
+  odometry.accelerometer.enabled = true;
+
+  const Driven run = Drive(166, false, simulator, kScans, sent, offset, odometry);
+  ASSERT_EQ(run.poses.size(), static_cast<std::size_t>(kScans));
+  const ReceivedStatus& s = run.status;
+  // Not within the first 10 scans (the warm-up), then on most scans.
+  EXPECT_GE(s.scans_with_accelerometer, 15u);
+  EXPECT_LE(s.scans_with_accelerometer, static_cast<std::uint64_t>(kScans - 10));
+  EXPECT_GE(s.accelerometer_by_reason.count("scan:non_finite"), 1u);
+  // Every scan after the first has an interval, and each is counted once.
+  EXPECT_EQ(s.scans_with_accelerometer + s.scans_without_accelerometer,
+            static_cast<std::uint64_t>(kScans - 1));
+  for (int i = 0; i < kScans; ++i) {
+    const ReceivedPose& p = run.poses[static_cast<std::size_t>(i)];
+    EXPECT_TRUE(p.registered) << "scan " << i << ": " << p.status;
+    EXPECT_NE(p.tracking, "lost") << "scan " << i;
+    if (i == 0) continue;
+    const Eigen::Isometry3d step = run.poses[static_cast<std::size_t>(i - 1)].T.inverse() * p.T;
+    const Eigen::Isometry3d truth = simulator.PoseAt(simulator.ScanStartTime(i - 1)).inverse() *
+                                    simulator.PoseAt(simulator.ScanStartTime(i));
+    EXPECT_LT((step.translation() - truth.translation()).norm(), 0.03) << "scan " << i;
   }
 }
 

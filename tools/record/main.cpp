@@ -75,7 +75,10 @@ nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
           {"imu_by_reason", ReasonsJson(s.imu_by_reason)}, {"wheel_samples", s.wheel_samples},
           {"wheel_samples_dropped", s.wheel_samples_dropped},
           {"scans_with_wheel", s.scans_with_wheel}, {"scans_without_wheel", s.scans_without_wheel},
-          {"wheel_by_reason", ReasonsJson(s.wheel_by_reason)}};
+          {"wheel_by_reason", ReasonsJson(s.wheel_by_reason)},
+          {"scans_with_accelerometer", s.scans_with_accelerometer},
+          {"scans_without_accelerometer", s.scans_without_accelerometer},
+          {"accelerometer_by_reason", ReasonsJson(s.accelerometer_by_reason)}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {
