@@ -153,6 +153,7 @@ void ReadCompactObjects(Section s, CompactObjectsConfig& c) {
 void ReadAccelerometer(Section s, AccelUseConfig& c) {
   s.Get("enabled", c.enabled);
   s.Get("acceleration_sigma", c.acceleration_sigma);
+  s.Get("deskew", c.deskew);
   s.Get("saturation", c.saturation);
   Section g = s.Child("gravity");
   g.Get("warmup", c.gravity.warmup);

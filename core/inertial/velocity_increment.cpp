@@ -53,8 +53,13 @@ const char* Name(AccelCoverage coverage) {
   return "unknown";
 }
 
-VelocityIncrement IntegrateSpecificForce(std::span<const ImuSample> samples, const GyroTrack& rotation,
-                                         const Eigen::Isometry3d& T_sensor_imu, double saturation) {
+namespace {
+
+// The integration both results share: visit(t, increment so far, its bias_to_displacement) at
+// every knot after t0.
+template <typename Visit>
+VelocityIncrement Integrate(std::span<const ImuSample> samples, const GyroTrack& rotation,
+                            const Eigen::Isometry3d& T_sensor_imu, double saturation, Visit visit) {
   VelocityIncrement increment;
   if (!rotation.covered() || samples.empty()) return increment;
   const double t0 = rotation.t0(), t1 = rotation.t1();
@@ -78,6 +83,7 @@ VelocityIncrement IntegrateSpecificForce(std::span<const ImuSample> samples, con
   Reading before = ReadingAt(samples, t0);
   Eigen::Matrix3d R_before = rotation.At(t0);
   Eigen::Vector3d f_before = R_before * force_at(before);
+  Eigen::Matrix3d bias_to_displacement = Eigen::Matrix3d::Zero();
   for (std::size_t k = 1; k < knots.size(); ++k) {
     const double h = knots[k] - knots[k - 1];
     if (!(h > 0.0)) continue;
@@ -88,14 +94,58 @@ VelocityIncrement IntegrateSpecificForce(std::span<const ImuSample> samples, con
     const Eigen::Matrix3d R_mid = 0.5 * (R_before + R_after);
     const Eigen::Vector3d tangential = R_mid * (R_si * (after.rate - before.rate)).cross(lever);
     const Eigen::Vector3d dv = 0.5 * h * (f_before + f_after) + tangential;
+    const Eigen::Matrix3d db = 0.5 * h * (R_before + R_after) * R_si;
     increment.displacement += h * increment.velocity + 0.5 * h * dv;
     increment.velocity += dv;
-    increment.bias_to_velocity += 0.5 * h * (R_before + R_after) * R_si;
+    bias_to_displacement += h * increment.bias_to_velocity + 0.5 * h * db;
+    increment.bias_to_velocity += db;
+    visit(knots[k], increment, bias_to_displacement);
     before = after;
     R_before = R_after;
     f_before = f_after;
   }
   return increment;
+}
+
+}  // namespace
+
+VelocityIncrement IntegrateSpecificForce(std::span<const ImuSample> samples, const GyroTrack& rotation,
+                                         const Eigen::Isometry3d& T_sensor_imu, double saturation) {
+  return Integrate(samples, rotation, T_sensor_imu, saturation,
+                   [](double, const VelocityIncrement&, const Eigen::Matrix3d&) {});
+}
+
+std::optional<AccelerationTrack> TrackAcceleration(std::span<const ImuSample> samples,
+                                                   const GyroTrack& rotation,
+                                                   const Eigen::Isometry3d& T_sensor_imu,
+                                                   double saturation, const Eigen::Vector3d& bias,
+                                                   const Eigen::Vector3d& gravity_start) {
+  AccelerationTrack track;
+  track.times.push_back(rotation.t0());
+  track.displacement.push_back(Eigen::Vector3d::Zero());
+  track.velocity.push_back(Eigen::Vector3d::Zero());
+  const VelocityIncrement increment = Integrate(
+      samples, rotation, T_sensor_imu, saturation,
+      [&](double t, const VelocityIncrement& so_far, const Eigen::Matrix3d& bias_to_displacement) {
+        const double tau = t - rotation.t0();
+        track.times.push_back(t);
+        track.displacement.push_back(so_far.displacement - bias_to_displacement * bias +
+                                     0.5 * tau * tau * gravity_start);
+        track.velocity.push_back(so_far.velocity - so_far.bias_to_velocity * bias +
+                                 tau * gravity_start);
+      });
+  if (!increment.covered()) return std::nullopt;
+  return track;
+}
+
+Eigen::Vector3d AccelerationTrack::Interpolate(const std::vector<Eigen::Vector3d>& values,
+                                               double t) const {
+  if (t <= times.front()) return values.front();
+  if (t >= times.back()) return values.back();
+  const std::size_t k =
+      static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+  const double f = (t - times[k - 1]) / (times[k] - times[k - 1]);
+  return values[k - 1] + f * (values[k] - values[k - 1]);
 }
 
 }  // namespace dammloam

@@ -197,16 +197,19 @@ Eigen::Isometry3d Odometry::DeskewToMidScan(ClassifiedScan& scan, const Vector6d
 }
 
 // The gyro measured how the sensor turned through the scan (a hand's shake reverses within
-// it); the translation stays the constant velocity's, which the scan's data corrects.
+// it); the translation is the constant velocity's, which the scan's data corrects, and with
+// `bend` what the accelerometer adds to it.
 Eigen::Isometry3d Odometry::DeskewWithGyro(ClassifiedScan& scan, const Vector6d& velocity,
                                            const GyroTrack& gyro,
-                                           const std::optional<Eigen::Vector3d>& v_start) const {
+                                           const std::optional<Eigen::Vector3d>& v_start,
+                                           const AccelerationTrack* bend) const {
   const double period = sensor_.scan_period;
   const Vector6d xi = velocity * period;
   const double t_start = scan.scan.t_start;
   const auto start_point = [&](double tau) {
     Eigen::Isometry3d T = ExpSE3((tau / period) * xi);
     if (v_start) T.translation() = tau * *v_start;
+    if (bend) T.translation() += bend->At(t_start + tau);
     T.linear() = gyro.At(t_start + tau);
     return T;
   };
@@ -336,9 +339,7 @@ OdometryResult Odometry::RegisterAndUpdate(ClassifiedScan&& scan, bool defer_map
   GyroTracks gyro = TrackGyro(scan.scan.t_start, result.gyro);
   std::optional<WheelTrack> wheel = TrackWheel(scan.scan.t_start, result.wheel);
   std::optional<VelocityIncrement> accel = TrackAccel(gyro, result.accelerometer);
-  Frame frame = Deskew(std::move(scan), std::move(gyro));
-  frame.wheel_interval = std::move(wheel);
-  frame.accel_interval = std::move(accel);
+  Frame frame = Deskew(std::move(scan), std::move(gyro), std::move(wheel), std::move(accel), dt);
   result.timings.deskew_ms = watch.LapMs();
   if (initialised_) DetectMoving(frame, dt);
   SelectSource(frame);
@@ -438,10 +439,14 @@ double Odometry::TimeStep(double t_start, OdometryStatus& status) {
   return dt;
 }
 
-Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan, GyroTracks gyro) const {
+Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan, GyroTracks gyro,
+                                 std::optional<WheelTrack> wheel,
+                                 std::optional<VelocityIncrement> accel, double dt) const {
   Frame frame;
   frame.gyro_scan = std::move(gyro.scan);
   frame.gyro_interval = std::move(gyro.interval);
+  frame.wheel_interval = std::move(wheel);
+  frame.accel_interval = std::move(accel);
   // Without a motion model that has held (start, reset, sharp acceleration) the deskew is a
   // guess; the raw scan is kept so that it can be redone with the measured motion.
   if (config_.deskew && scan.scan.has_times() && !motion_model_holds_) frame.raw = scan;
@@ -451,8 +456,21 @@ Odometry::Frame Odometry::Deskew(ClassifiedScan&& scan, GyroTracks gyro) const {
     // sensor 60-90 deg between sparse scans while the walk goes on the same way.
     const Eigen::Matrix3d R_world_start =
         T_world_last_.linear() * frame.gyro_interval->At(frame.scan.scan.t_start);
-    const Eigen::Vector3d v_start = R_world_start.transpose() * WorldVelocity(sensor_.scan_period);
-    frame.T_mid_start = DeskewWithGyro(frame.scan, velocity_, *frame.gyro_scan, v_start);
+    Eigen::Vector3d v_world = WorldVelocity(sensor_.scan_period);
+    const std::optional<AccelerationTrack> bend = TrackAccelInScan(*frame.gyro_scan, R_world_start);
+    // A bounce's velocity turns within a scan interval: along the directions gravity is trusted
+    // the start's is the middle's as the accelerometer predicts it, less what the scan's first
+    // half added.
+    if (bend && UsesAccel(frame)) {
+      const AccelChange change = VelocityChangeByAccel(frame, dt);
+      const double t_mid = frame.scan.scan.t_start + 0.5 * sensor_.scan_period;
+      const Eigen::Vector3d v_start =
+          world_velocity_ + change.velocity - R_world_start * bend->VelocityAt(t_mid);
+      v_world += change.trusted * (v_start - v_world);
+      frame.start_by_accel = change.trusted;
+    }
+    frame.T_mid_start = DeskewWithGyro(frame.scan, velocity_, *frame.gyro_scan,
+                                       R_world_start.transpose() * v_world, bend ? &*bend : nullptr);
     return frame;
   }
   frame.T_mid_start =
@@ -592,6 +610,7 @@ RegistrationResult Odometry::RedeskewAndRegister(Frame& frame, const Eigen::Isom
   frame.raw.reset();
   frame.T_mid_start =
       DeskewToMidScan(frame.scan, measured, frame.gyro_scan ? &*frame.gyro_scan : nullptr);
+  frame.start_by_accel.setZero();
   SelectSource(frame);
   frame.T_guess = Predict(measured, dt, frame);
   translation_filter_.Reset();  // the velocity it predicted with was wrong
@@ -619,6 +638,13 @@ Eigen::Isometry3d Odometry::StartPose(const Frame& frame, const Eigen::Isometry3
   // the interval leaves the geodesic midpoint of the two orientations degrees off (2 deg per
   // step on 4 % of the hand-held aggressive run's steps).
   if (frame.gyro_scan) interpolated.linear() = extrapolated.linear();
+  // Likewise the accelerometer measured how the start-to-middle translation departs from the
+  // mean over the interval: a running bounce's 5 m/s^2 RMS put the midpoint 1.3 cm RMS off
+  // vertically, every scan (handheld-aggressive seed 1).
+  if (!frame.start_by_accel.isZero(0.0)) {
+    interpolated.translation() +=
+        frame.start_by_accel * (extrapolated.translation() - interpolated.translation());
+  }
   return Normalized(interpolated);
 }
 

@@ -120,6 +120,9 @@ class Odometry {
     // With it: the directions (world projector) along which the accelerometer was used; along
     // the others the constant-velocity model stands.
     Eigen::Matrix3d accel_trusted = Eigen::Matrix3d::Zero();
+    // Directions (world projector) along which the scan was deskewed from the accelerometer's
+    // velocity at its start (TrackAccelInScan): its start pose is extrapolated there.
+    Eigen::Matrix3d start_by_accel = Eigen::Matrix3d::Zero();
   };
   // The gyro's tracks for a scan starting at t_start; `why` says whether they cover it.
   struct GyroTracks {
@@ -135,7 +138,19 @@ class Odometry {
   std::optional<VelocityIncrement> TrackAccel(const GyroTracks& gyro,
                                               std::optional<AccelCoverage>& why) const;
   bool UsesAccel(const Frame& frame) const;
+  // The scan's own acceleration track (start frame), for the deskew; R_world_start: the scan
+  // start's orientation.
+  std::optional<AccelerationTrack> TrackAccelInScan(const GyroTrack& scan_track,
+                                                    const Eigen::Matrix3d& R_world_start) const;
   void PredictWithAccel(Frame& frame, double dt) const;
+  // The velocity change from the previous scan's middle to this one's that the accelerometer
+  // measured (world), and the directions (world projector) along which gravity is known well
+  // enough to use it. Needs UsesAccel(frame).
+  struct AccelChange {
+    Eigen::Vector3d velocity;
+    Eigen::Matrix3d trusted;
+  };
+  AccelChange VelocityChangeByAccel(const Frame& frame, double dt) const;
   void LearnGravity(const Frame& frame, const RegistrationResult& reg,
                     const Eigen::Vector3d& velocity_before, double dt);
   // With `gyro`: its rotation through the scan, the constant velocity's translation.
@@ -143,7 +158,8 @@ class Odometry {
                                     const GyroTrack* gyro = nullptr) const;
   Eigen::Isometry3d DeskewWithGyro(ClassifiedScan& scan, const Vector6d& velocity,
                                    const GyroTrack& gyro,
-                                   const std::optional<Eigen::Vector3d>& v_start = {}) const;
+                                   const std::optional<Eigen::Vector3d>& v_start = {},
+                                   const AccelerationTrack* bend = nullptr) const;
   // The constant-velocity model's translation per second in the world frame over dt.
   Eigen::Vector3d WorldVelocity(double dt) const;
   // The pose `velocity` predicts after dt; its rotation the gyro's where the frame has one.
@@ -189,7 +205,9 @@ class Odometry {
   OdometryResult NewResult(const ClassifiedScan& scan);
   OdometryStatus Admit(const Scan& scan) const;
   double TimeStep(double t_start, OdometryStatus& status);
-  Frame Deskew(ClassifiedScan&& scan, GyroTracks gyro) const;
+  // The frame of a scan with what the IMU and wheels measured over its interval dt.
+  Frame Deskew(ClassifiedScan&& scan, GyroTracks gyro, std::optional<WheelTrack> wheel,
+               std::optional<VelocityIncrement> accel, double dt) const;
   RegistrationResult RegisterFrame(Frame& frame, double dt);
   RegistrationResult RegisterSource(const Frame& frame, const MotionPrior& prior,
                                     double gate_widening = 1.0);

@@ -21,11 +21,26 @@ std::optional<VelocityIncrement> Odometry::TrackAccel(const GyroTracks& gyro,
   return increment;
 }
 
+std::optional<AccelerationTrack> Odometry::TrackAccelInScan(
+    const GyroTrack& scan_track, const Eigen::Matrix3d& R_world_start) const {
+  if (!gravity_ || !gravity_->ready() || !config_.accelerometer.deskew) return std::nullopt;
+  return TrackAcceleration(std::span<const ImuSample>(imu_samples_), scan_track,
+                           imu_->T_sensor_imu, config_.accelerometer.saturation, gravity_->bias(),
+                           R_world_start.transpose() * gravity_->gravity());
+}
+
 // Wheels measure the translation itself and take precedence; the velocity it starts from must
 // be the registered one of the scan before.
 bool Odometry::UsesAccel(const Frame& frame) const {
   return frame.accel_interval && gravity_ && gravity_->ready() && world_velocity_known_ &&
          !frame.wheel_interval && UsesMotionPrior(config_.registration.mode);
+}
+
+Odometry::AccelChange Odometry::VelocityChangeByAccel(const Frame& frame, double dt) const {
+  const VelocityIncrement& increment = *frame.accel_interval;
+  const Eigen::Matrix3d& R = T_world_last_.linear();
+  return {gravity_->VelocityChange(R * increment.velocity, R * increment.bias_to_velocity, dt),
+          gravity_->Trusted(R * increment.bias_to_velocity, dt)};
 }
 
 // Along the directions gravity is known well enough; along the others (never observed, as the
@@ -34,11 +49,9 @@ bool Odometry::UsesAccel(const Frame& frame) const {
 void Odometry::PredictWithAccel(Frame& frame, double dt) const {
   const VelocityIncrement& increment = *frame.accel_interval;
   const Eigen::Matrix3d& R = T_world_last_.linear();
-  const Eigen::Matrix3d trusted = gravity_->Trusted(R * increment.bias_to_velocity, dt);
+  const auto [change, trusted] = VelocityChangeByAccel(frame, dt);
   if (trusted.isZero(0.0)) return;
   const Eigen::Vector3d bias = gravity_->bias();
-  const Eigen::Vector3d change =
-      gravity_->VelocityChange(R * increment.velocity, R * increment.bias_to_velocity, dt);
   // The bias acts on the displacement as on the velocity, over half the interval on average.
   const Eigen::Vector3d displacement = R * (increment.displacement -
                                             0.5 * dt * increment.bias_to_velocity * bias) +

@@ -223,5 +223,43 @@ TEST(ImuAccel, NonFiniteAndClippedForcesFallBackWithoutAJump) {
   EXPECT_LT(errors.ape_rmse, 0.1);
 }
 
+// RMS of the vertical (world z) part of each frame's relative-translation error, scan i-1 -> i,
+// turned into the world by the truth's orientation at i-1.
+double VerticalPerFrame(const std::vector<io::StampedPose>& truth,
+                        const std::vector<io::StampedPose>& estimate, std::size_t from) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = std::max<std::size_t>(from, 1); i < estimate.size(); ++i) {
+    const Eigen::Vector3d step_true = truth[i - 1].T.inverse() * truth[i].T.translation();
+    const Eigen::Vector3d step = estimate[i - 1].T.inverse() * estimate[i].T.translation();
+    sum += std::pow((truth[i - 1].T.linear() * (step - step_true)).z(), 2);
+    ++n;
+  }
+  return std::sqrt(sum / static_cast<double>(n));
+}
+
+// A running bounce (5 m/s^2 RMS vertically) bends each scan and moves its start against its
+// middle by a centimetre where a constant velocity is assumed. With the accelerometer's track
+// through the scan (accelerometer.deskew) the per-frame vertical error, once gravity is
+// trusted, is a fraction of what the accelerometer leaves without it (full run, seed 1:
+// 0.0151 -> 0.0023 m).
+TEST(ImuAccel, TheAccelerometersTrackThroughAScanTakesOutARunningBounce) {
+  SimRun run = Aggressive();
+  run.sequence.scans.resize(100);
+  run.sequence.ground_truth.resize(100);
+  OdometryConfig config;
+  config.accelerometer.enabled = true;
+  const Outcome along = Track(run, true, nullptr, {}, config);
+  config.accelerometer.deskew = false;
+  const Outcome constant = Track(run, true, nullptr, {}, config);
+  // From scan 35 on: gravity is trusted after about 3 s.
+  const double with = VerticalPerFrame(run.sequence.ground_truth, along.estimate, 35);
+  const double without = VerticalPerFrame(run.sequence.ground_truth, constant.estimate, 35);
+  std::printf("vertical per frame, scans 35-99: %.4f m along the accelerometer's track, %.4f m "
+              "with a constant velocity through the scan\n", with, without);
+  EXPECT_LT(with, 0.5 * without);
+  EXPECT_LT(with, 0.006);
+}
+
 }  // namespace
 }  // namespace dammloam

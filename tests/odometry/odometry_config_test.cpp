@@ -104,6 +104,7 @@ TEST(OdometryConfigYaml, ShippedDefaultFileLoadsAndEqualsTheDefaults) {
   DAMMLOAM_EXPECT_SAME(accelerometer.enabled);
   DAMMLOAM_EXPECT_SAME(accelerometer.acceleration_sigma);
   DAMMLOAM_EXPECT_SAME(accelerometer.saturation);
+  DAMMLOAM_EXPECT_SAME(accelerometer.deskew);
   DAMMLOAM_EXPECT_SAME(accelerometer.gravity.warmup);
   DAMMLOAM_EXPECT_SAME(accelerometer.gravity.initial_sigma);
   DAMMLOAM_EXPECT_SAME(accelerometer.gravity.gravity_walk);
