@@ -95,7 +95,8 @@ TEST(VelocityIncrement, AKnownMotionIntegratesToTheSensorsVelocityChangeAndDispl
 
 // Within a scan: where the sensor's origin went beyond its velocity at the scan start, at every
 // moment, with gravity and the bias taken out. A bounce of 10 m/s^2 bends a 0.1 s scan by
-// about a centimetre (what a constant velocity misses); the track finds it to 0.2 mm, and a gravity estimate 0.5 m/s^2 off moves its middle by 0.6 mm.
+// about a centimetre (what a constant velocity misses); the track finds it to 0.2 mm, and a
+// gravity estimate 0.5 m/s^2 off moves its middle by 0.6 mm.
 TEST(VelocityIncrement, TheAccelerationTrackFollowsABounceWithinAScan) {
   Motion m;
   m.w = Eigen::Vector3d(0.3, -0.2, 2.0);
@@ -115,7 +116,9 @@ TEST(VelocityIncrement, TheAccelerationTrackFollowsABounceWithinAScan) {
         T_si.linear().transpose() * (m.R(t).transpose() * (a_imu - kGravity)) + bias;
     samples.push_back(s);
   }
-  const auto position = [](double t) { return Eigen::Vector3d(3.0 * t, 0.0, 0.03 * std::sin(18.0 * t)); };
+  const auto position = [](double t) {
+    return Eigen::Vector3d(3.0 * t, 0.0, 0.03 * std::sin(18.0 * t));
+  };
   const auto velocity = [](double t) { return Eigen::Vector3d(3.0, 0.0, 0.54 * std::cos(18.0 * t)); };
   const double t0 = 0.213, t1 = 0.313;
   GyroCalibration calibration;
@@ -132,7 +135,8 @@ TEST(VelocityIncrement, TheAccelerationTrackFollowsABounceWithinAScan) {
     const double tau = t - t0;
     const Eigen::Vector3d truth = Rt0 * (position(t) - position(t0) - tau * velocity(t0));
     worst = std::max(worst, (exact->At(t) - truth).norm());
-    worst_velocity = std::max(worst_velocity, (exact->VelocityAt(t) - Rt0 * (velocity(t) - velocity(t0))).norm());
+    const Eigen::Vector3d gained = Rt0 * (velocity(t) - velocity(t0));
+    worst_velocity = std::max(worst_velocity, (exact->VelocityAt(t) - gained).norm());
     // What a constant velocity over the scan (the chord) misses.
     const Eigen::Vector3d chord = position(t0) + (tau / (t1 - t0)) * (position(t1) - position(t0));
     bend = std::max(bend, (position(t) - chord).norm());

@@ -216,7 +216,9 @@ TEST(VoxelHashMap, KeepsEveryPointThroughGrowthRemovalAndCompaction) {
   std::size_t next_site = 0;
   for (int round = 0; round < 60; ++round) {
     std::vector<MapPoint> batch;
-    for (int i = 0; i < 250 && next_site < sites.size(); ++i) batch.push_back(point_at(sites[next_site++]));
+    for (int i = 0; i < 250 && next_site < sites.size(); ++i) {
+      batch.push_back(point_at(sites[next_site++]));
+    }
     map.AddPoints(batch);
     truth.insert(truth.end(), batch.begin(), batch.end());
     if (round % 4 == 3) {  // people leaving: a ball's walls go

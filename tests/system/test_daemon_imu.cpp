@@ -13,6 +13,7 @@
 #include "services/dds/ros2_messages.hpp"
 #include "tests/system/daemon_test_config.hpp"
 #include "tests/system/dds_test_client.hpp"
+#include "tests/system/expect_tracked.hpp"
 #include "tests/system/sim_sequence.hpp"
 #include "tools/simulate/inertial_streams.hpp"
 
@@ -177,18 +178,7 @@ TEST_F(DaemonImu, BadSamplesAreCountedByReasonAndEveryScanIsStillTrackedWithoutA
 
   // Every scan registered and tracked, and every step as the simulator moved (no jump where
   // the gyro dropped out or came back).
-  for (int i = 0; i < kScans; ++i) {
-    const ReceivedPose& p = run.poses[static_cast<std::size_t>(i)];
-    EXPECT_TRUE(p.registered) << "scan " << i << ": " << p.status;
-    EXPECT_NE(p.tracking, "lost") << "scan " << i;
-    if (i == 0) continue;
-    const Eigen::Isometry3d step = run.poses[static_cast<std::size_t>(i - 1)].T.inverse() * p.T;
-    const Eigen::Isometry3d truth = simulator.PoseAt(simulator.ScanStartTime(i - 1)).inverse() *
-                                    simulator.PoseAt(simulator.ScanStartTime(i));
-    EXPECT_LT((step.translation() - truth.translation()).norm(), 0.03) << "scan " << i;
-    EXPECT_LT(Eigen::AngleAxisd(step.linear().transpose() * truth.linear()).angle(), 0.01)
-        << "scan " << i;
-  }
+  ExpectTrackedAsSimulated(run.poses, simulator, kScans);
 }
 
 TEST_F(DaemonImu, Ros2ImuGivesThePosesOfTheNativeImuTopic) {
@@ -219,8 +209,9 @@ TEST_F(DaemonImu, Ros2ImuGivesThePosesOfTheNativeImuTopic) {
 }
 
 // The accelerometer on (odometry config): once gravity is learned (a one-second warm-up, then
-// about two seconds of registered velocity changes) its velocity change drives the motion prior, and Status counts the scans it drove and why the
-// others it did not; a NaN force costs its interval the accelerometer, never the scan.
+// about two seconds of registered velocity changes) its velocity change drives the motion
+// prior, and Status counts the scans it drove and why the others it did not; a NaN force costs
+// its interval the accelerometer, never the scan.
 TEST_F(DaemonImu, TheAccelerometersScansAreCountedAndANanForceCostsOnlyItsInterval) {
   constexpr int kScans = 60;
   const sim::Simulator simulator = SmallSimulator(kScans);
@@ -244,16 +235,7 @@ TEST_F(DaemonImu, TheAccelerometersScansAreCountedAndANanForceCostsOnlyItsInterv
   // Every scan after the first has an interval, and each is counted once.
   EXPECT_EQ(s.scans_with_accelerometer + s.scans_without_accelerometer,
             static_cast<std::uint64_t>(kScans - 1));
-  for (int i = 0; i < kScans; ++i) {
-    const ReceivedPose& p = run.poses[static_cast<std::size_t>(i)];
-    EXPECT_TRUE(p.registered) << "scan " << i << ": " << p.status;
-    EXPECT_NE(p.tracking, "lost") << "scan " << i;
-    if (i == 0) continue;
-    const Eigen::Isometry3d step = run.poses[static_cast<std::size_t>(i - 1)].T.inverse() * p.T;
-    const Eigen::Isometry3d truth = simulator.PoseAt(simulator.ScanStartTime(i - 1)).inverse() *
-                                    simulator.PoseAt(simulator.ScanStartTime(i));
-    EXPECT_LT((step.translation() - truth.translation()).norm(), 0.03) << "scan " << i;
-  }
+  ExpectTrackedAsSimulated(run.poses, simulator, kScans);
 }
 
 // An IMU on another clock (its stamps 100 s ahead, no time offset configured): every sample is

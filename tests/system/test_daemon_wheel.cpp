@@ -14,6 +14,7 @@
 #include "services/dds/ros2_messages.hpp"
 #include "tests/system/daemon_test_config.hpp"
 #include "tests/system/dds_test_client.hpp"
+#include "tests/system/expect_tracked.hpp"
 #include "tools/simulate/inertial_streams.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -202,18 +203,7 @@ TEST_F(DaemonWheel, BadSamplesAreCountedByReasonAndEveryScanIsStillTrackedWithou
   EXPECT_EQ(s.scans_with_wheel + s.scans_without_wheel, static_cast<std::uint64_t>(kScans - 1));
   EXPECT_EQ(s.receive_errors, 0u);
 
-  for (int i = 0; i < kScans; ++i) {
-    const ReceivedPose& p = run.poses[static_cast<std::size_t>(i)];
-    EXPECT_TRUE(p.registered) << "scan " << i << ": " << p.status;
-    EXPECT_NE(p.tracking, "lost") << "scan " << i;
-    if (i == 0) continue;
-    const Eigen::Isometry3d step = run.poses[static_cast<std::size_t>(i - 1)].T.inverse() * p.T;
-    const Eigen::Isometry3d truth = simulator.PoseAt(simulator.ScanStartTime(i - 1)).inverse() *
-                                    simulator.PoseAt(simulator.ScanStartTime(i));
-    EXPECT_LT((step.translation() - truth.translation()).norm(), 0.03) << "scan " << i;
-    EXPECT_LT(Eigen::AngleAxisd(step.linear().transpose() * truth.linear()).angle(), 0.01)
-        << "scan " << i;
-  }
+  ExpectTrackedAsSimulated(run.poses, simulator, kScans);
 }
 
 // ROS 2 nav_msgs/Odometry's twist gives the native topic's poses; a stream stamped 0.25 s ahead
