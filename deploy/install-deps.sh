@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build git pkg-config ca-certificates
   libeigen3-dev libpcl-dev libceres-dev
-  libspdlog-dev libfmt-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
+  libspdlog-dev libfmt-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libstb-dev
   libtbb-dev libnanoflann-dev robin-map-dev
   libreaderwriterqueue-dev libconcurrentqueue-dev
   cyclonedds-dev cyclonedds-tools

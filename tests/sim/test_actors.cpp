@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "tools/benchmark/ghost_count.hpp"
 #include "tools/simulate/presets.hpp"
 #include "tools/simulate/simulator.hpp"
 
@@ -368,6 +369,29 @@ TEST(Actors, SweptVolumeTellsWhereAnActorHasLeft) {
   ASSERT_EQ(now.size(), 1u);
   EXPECT_NEAR(now[0].box.center.x(), 5.0, 1e-9);
   EXPECT_TRUE(now[0].moving);
+}
+
+TEST(Actors, GhostsAreMapPointsWhereAnActorWasAndHasLeftAboveTheGroundItWalkedOn) {
+  Simulator sim = StillSensor(SceneKind::Corridor);
+  sim.SetActors(ActorSet({MakePedestrian(Route({{8.0, 0.5}, {3.0, 0.5}}, 1.0, 0.0), 1.7, 0.5f)}, std::nullopt));
+  const double t0 = sim.options().t0;
+  // The floor it walked on counts without a clearance, not with one.
+  EXPECT_TRUE(sim.ActorSweptVolume(t0, t0 + 3.0).Occupied({6.5, 0.5, 0.03}));
+  const SweptVolume swept = sim.ActorSweptVolume(t0, t0 + 3.0, 0.05, 0.05, 0.15);
+  EXPECT_FALSE(swept.Occupied({6.5, 0.5, 0.03}));
+  EXPECT_TRUE(swept.Vacated({6.5, 0.5, 0.3}));
+  EXPECT_TRUE(swept.OccupiedAtEnd({5.0, 0.5, 1.0}));
+  const std::vector<Eigen::Vector3d> map = {{7.9, 0.5, 1.0},    // where it was: a ghost
+                                            {5.0, 0.5, 1.0},    // where it is now
+                                            {7.0, -0.5, 1.0},   // beside its way
+                                            {6.5, 0.5, 0.03}};  // the floor under its way
+  const std::vector<PointClass> labels = {PointClass::Wall, PointClass::Edge, PointClass::Wall, PointClass::Ground};
+  const bench::GhostCount count = bench::CountGhosts(map, labels, swept);
+  EXPECT_EQ(count.points, 4u);
+  EXPECT_EQ(count.ghosts, 1u);
+  EXPECT_EQ(count.on_actors, 1u);
+  EXPECT_EQ(count.ghosts_by_class[Index(PointClass::Wall)], 1u);
+  EXPECT_EQ(count.ghost_indices, std::vector<std::size_t>{0});
 }
 
 }  // namespace

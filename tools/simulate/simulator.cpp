@@ -131,6 +131,11 @@ SweptVolume Simulator::ActorSweptVolume(double t_from, double t_to) const {
   return SweptVolume(actors_, t_from - options_.t0, t_to - options_.t0);
 }
 
+SweptVolume Simulator::ActorSweptVolume(double t_from, double t_to, double step, double margin,
+                                        double clearance) const {
+  return SweptVolume(actors_, t_from - options_.t0, t_to - options_.t0, step, margin, clearance);
+}
+
 std::vector<PosedPart> Simulator::ActorsInColumn(int column, double t, const Eigen::Isometry3d& T_world_sensor,
                                                  const std::optional<Eigen::Matrix3d>& R_phase,
                                                  const std::vector<ActorSet::Reach>& reach) const {

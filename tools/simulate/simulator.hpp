@@ -94,6 +94,9 @@ class Simulator {
   std::vector<ActorFootprint> ActorFootprintsAt(double t) const;
   // Where the actors were during [t_from, t_to]; Vacated(p): they have left p by t_to.
   SweptVolume ActorSweptVolume(double t_from, double t_to) const;
+  // The same with SweptVolume's sampling, margin and ground clearance chosen by the caller.
+  SweptVolume ActorSweptVolume(double t_from, double t_to, double step, double margin,
+                               double clearance) const;
   // Replaces the actors, e.g. with hand-placed ones in a test (their times: drive time).
   void SetActors(ActorSet actors) { actors_ = std::move(actors); }
 

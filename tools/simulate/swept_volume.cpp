@@ -10,8 +10,13 @@ namespace {
 
 constexpr double kSweepCell = 1.0;  // metres
 
-Box Grown(Box box, double margin) {
+// Grown by `margin` on every side, then its bottom raised by `clearance` (actor frames turn
+// about z only, so the box's z is the world's).
+Box Grown(Box box, double margin, double clearance) {
   box.half_size.array() += margin;
+  const double raise = std::min(clearance, 2.0 * box.half_size.z());
+  box.center.z() += 0.5 * raise;
+  box.half_size.z() -= 0.5 * raise;
   return box;
 }
 
@@ -25,7 +30,8 @@ int Cell(double value, double origin, int count) {
 
 }  // namespace
 
-SweptVolume::SweptVolume(const ActorSet& actors, double t_from, double t_to, double step, double margin) {
+SweptVolume::SweptVolume(const ActorSet& actors, double t_from, double t_to, double step, double margin,
+                         double clearance) {
   const int steps = std::max(1, static_cast<int>(std::ceil((t_to - t_from) / step)));
   for (std::size_t i = 0; i < actors.size(); ++i) {
     std::optional<Box> last;
@@ -36,10 +42,10 @@ SweptVolume::SweptVolume(const ActorSet& actors, double t_from, double t_to, dou
       if (last && (f->box.center - last->center).norm() < 0.02 && f->box.rotation.isApprox(last->rotation, 1e-3)) {
         continue;
       }
-      swept_.push_back(Grown(f->box, margin));
+      swept_.push_back(Grown(f->box, margin, clearance));
       last = f->box;
     }
-    if (const auto f = actors.FootprintAt(i, t_to)) now_.push_back(Grown(f->box, margin));
+    if (const auto f = actors.FootprintAt(i, t_to)) now_.push_back(Grown(f->box, margin, clearance));
   }
   if (swept_.empty()) return;
   Eigen::Vector2d lo = swept_.front().center.head<2>(), hi = lo;
@@ -81,8 +87,10 @@ bool SweptVolume::Occupied(const Eigen::Vector3d& p) const {
   return std::any_of(near.begin(), near.end(), [&](std::size_t i) { return Inside(swept_[i], p); });
 }
 
-bool SweptVolume::Vacated(const Eigen::Vector3d& p) const {
-  return Occupied(p) && std::none_of(now_.begin(), now_.end(), [&](const Box& b) { return Inside(b, p); });
+bool SweptVolume::Vacated(const Eigen::Vector3d& p) const { return Occupied(p) && !OccupiedAtEnd(p); }
+
+bool SweptVolume::OccupiedAtEnd(const Eigen::Vector3d& p) const {
+  return std::any_of(now_.begin(), now_.end(), [&](const Box& b) { return Inside(b, p); });
 }
 
 }  // namespace dammloam::sim
