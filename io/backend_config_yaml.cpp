@@ -82,6 +82,16 @@ void ReadPoseGraph(Section s, PoseGraphConfig& c) {
   s.RejectUnknownKeys();
 }
 
+void ReadVacated(Section s, VacatedPointsConfig& c) {
+  s.Get("enabled", c.enabled);
+  s.Get("max_range", c.max_range);
+  s.Get("min_range", c.min_range);
+  s.Get("margin", c.margin);
+  s.Get("margin_per_metre", c.margin_per_metre);
+  s.Get("min_views", c.min_views);
+  s.RejectUnknownKeys();
+}
+
 void ReadLoopClosing(Section s, BackendConfig& c) {
   ReadKeyframes(s.Child("keyframes"), c.keyframes);
   ReadScanContext(s.Child("scan_context"), c.scan_context);
@@ -90,6 +100,7 @@ void ReadLoopClosing(Section s, BackendConfig& c) {
   ReadPoseGraph(s.Child("pose_graph"), c.pose_graph);
   s.Get("keyframe_voxel_size", c.keyframe_voxel_size);
   s.Get("global_map_voxel_size", c.global_map_voxel_size);
+  ReadVacated(s.Child("vacated"), c.vacated);
   s.Get("max_verifications_per_keyframe", c.max_verifications_per_keyframe);
   s.Get("proximity_radius", c.proximity_radius);
   s.Get("revisit_drop_distance", c.revisit_drop_distance);
@@ -219,6 +230,12 @@ void ValidateBackendConfig(const backend::BackendParameters& config, const std::
   check.Positive(g.min_rotation_sigma, lc + "pose_graph.min_rotation_sigma");
   check.NonNegative(b.keyframe_voxel_size, lc + "keyframe_voxel_size");  // 0: every point
   check.NonNegative(b.global_map_voxel_size, lc + "global_map_voxel_size");
+  check.NonNegative(b.vacated.min_range, lc + "vacated.min_range");
+  check.Require(b.vacated.max_range > b.vacated.min_range, lc + "vacated.max_range",
+                "must be greater than vacated.min_range");
+  check.NonNegative(b.vacated.margin, lc + "vacated.margin");
+  check.NonNegative(b.vacated.margin_per_metre, lc + "vacated.margin_per_metre");
+  check.AtLeast(b.vacated.min_views, 1, lc + "vacated.min_views");
   check.AtLeast(b.max_verifications_per_keyframe, 0, lc + "max_verifications_per_keyframe");
   check.NonNegative(b.proximity_radius, lc + "proximity_radius");
   check.NonNegative(b.revisit_drop_distance, lc + "revisit_drop_distance");  // 0: keep every cloud

@@ -22,6 +22,9 @@ struct Keyframe {
   Matrix6d edge_covariance = Matrix6d::Identity();
   std::vector<Eigen::Vector3d> points;  // sensor frame
   std::vector<PointClass> labels;       // empty or one per point
+  // Points the front end judged moving, sensor frame, thinned like `points`: never mapped, but
+  // they stood in the way of this keyframe's beams (vacated_points.hpp). Not saved.
+  std::vector<Eigen::Vector3d> occluders;
   ScanContext descriptor;
 };
 

@@ -31,8 +31,12 @@ void KeepStaticPoints(const OdometryResult& result, Keyframe& kf) {
   }
   kf.points.reserve(result.labels.size() - moving);
   kf.labels.reserve(result.labels.size() - moving);
+  kf.occluders.reserve(moving);
   for (std::size_t i = 0; i < result.labels.size(); ++i) {
-    if (result.labels[i] == PointClass::Moving) continue;
+    if (result.labels[i] == PointClass::Moving) {
+      kf.occluders.push_back(result.deskewed_points[i]);
+      continue;
+    }
     kf.points.push_back(result.deskewed_points[i]);
     kf.labels.push_back(result.labels[i]);
   }
@@ -137,6 +141,7 @@ void LoopClosingBackend::IntegrateKeyframe(PendingKeyframe pending) {
   }
   kf.points = std::move(points);
   kf.labels = std::move(labels);
+  kf.occluders = VoxelDownsample(kf.occluders, config_.keyframe_voxel_size);
   kf.descriptor = MakeScanContext(kf.points, config_.scan_context);
 
   // New nodes start from the corrected previous keyframe plus odometry's relative motion, so
@@ -307,6 +312,7 @@ void LoopClosingBackend::DropCloud(std::uint32_t id) {
   // Swapped with empties: clear() would keep the capacity.
   std::vector<Eigen::Vector3d>().swap(kf.points);
   std::vector<PointClass>().swap(kf.labels);
+  std::vector<Eigen::Vector3d>().swap(kf.occluders);
   kf.descriptor = ScanContext{};
   database_.Retire(id);
   dropped_[id] = 1;
@@ -366,8 +372,30 @@ std::size_t LoopClosingBackend::NumOptimizations() const {
   return optimizations_;
 }
 
-MapData LoopClosingBackend::ExportMap() const {
+void LoopClosingBackend::SetSensor(const SensorModel& sensor) {
   std::lock_guard lock(process_mutex_);
+  sensor_ = sensor;
+}
+
+MapData LoopClosingBackend::ExportMap() const {
+  MapData map;
+  std::optional<SensorModel> sensor;
+  {
+    std::lock_guard lock(process_mutex_);
+    map = ExportGraph();
+    sensor = sensor_;
+  }
+  // Outside the lock: judging the map against its keyframes takes about a second for 190,000
+  // points (vacated_points.hpp), and loop closing goes on meanwhile.
+  GlobalMap global = sensor ? AssembleGlobalMap(map.keyframes, config_.global_map_voxel_size, *sensor,
+                                                config_.keyframe_voxel_size, config_.vacated)
+                            : AssembleGlobalMap(map.keyframes, config_.global_map_voxel_size);
+  map.global_points = std::move(global.points);
+  map.global_labels = std::move(global.labels);
+  return map;
+}
+
+MapData LoopClosingBackend::ExportGraph() const {
   MapData map;
   map.scan_context = config_.scan_context;
   // Saved ids are dense: a map holds only keyframes with a cloud.
@@ -383,9 +411,6 @@ MapData LoopClosingBackend::ExportMap() const {
     if (saved_id[loop.from] == kNotSaved || saved_id[loop.to] == kNotSaved) continue;
     map.loops.push_back({saved_id[loop.from], saved_id[loop.to], loop.T_from_to});
   }
-  GlobalMap global = AssembleGlobalMap(map.keyframes, config_.global_map_voxel_size);
-  map.global_points = std::move(global.points);
-  map.global_labels = std::move(global.labels);
   return map;
 }
 

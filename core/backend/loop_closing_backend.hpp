@@ -12,6 +12,8 @@
 #include "core/backend/pose_graph.hpp"
 #include "core/backend/scan_context.hpp"
 #include "core/backend/scan_context_database.hpp"
+#include "core/backend/vacated_points.hpp"
+#include "core/geometry/scan.hpp"
 #include "core/odometry/odometry_result.hpp"
 
 namespace dammloam::backend {
@@ -24,6 +26,9 @@ struct BackendConfig {
   PoseGraphConfig pose_graph;
   double keyframe_voxel_size = 0.4;     // keyframe clouds are stored at this resolution
   double global_map_voxel_size = 0.3;
+  // The global map leaves out what later keyframes saw through (people, cars that left). Needs
+  // the sensor's model (SetSensor).
+  VacatedPointsConfig vacated;
   int max_verifications_per_keyframe = 2;
   // The nearest keyframe within this distance in the corrected map is verified first.
   double proximity_radius = 3.0;        // metres
@@ -71,6 +76,10 @@ class LoopClosingBackend {
  public:
   explicit LoopClosingBackend(const BackendConfig& config = {});
 
+  // The sensor the keyframes come from: the exported global map is cleaned of vacated points
+  // (BackendConfig::vacated) only once it is known.
+  void SetSensor(const SensorModel& sensor);
+
   // Records the scan's odometry pose; copies its cloud when it becomes a keyframe.
   void AddScan(const OdometryResult& result);
   // Integrates queued keyframes, detects and verifies loops, optimises when an accepted loop
@@ -108,6 +117,9 @@ class LoopClosingBackend {
   };
 
   void IntegrateKeyframe(PendingKeyframe pending);
+  // Keyframes with a cloud and the loops between them, without the global map; under
+  // process_mutex_.
+  MapData ExportGraph() const;
   // `disagrees`: set when an accepted loop disagrees with the map (loop_optimize_residual).
   std::vector<LoopEvent> DetectLoops(std::uint32_t query_id, bool& disagrees);
   // Refuses (with the reason) an accepted loop too far from odometry's relative pose for both
@@ -132,6 +144,7 @@ class LoopClosingBackend {
   bool HasCloud(std::uint32_t id) const { return !dropped_[id]; }
 
   BackendConfig config_;
+  std::optional<SensorModel> sensor_;  // guarded by process_mutex_
   LoopVerifier verifier_;
 
   // Shared between AddScan (odometry thread), Process and the pose getters.

@@ -47,9 +47,23 @@ DepthView::DepthView(const Config& config, const SensorModel& sensor,
   for (const Eigen::Vector3d& q : points_sensor) {
     int r = 0, c = 0;
     if (!CellOf(q, r, c)) continue;
-    float& cell = nearest_[static_cast<std::size_t>(r) * cols_ + c];
     const float range = static_cast<float>(q.norm());
-    if (cell == 0.0f || range < cell) cell = range;
+    if (config.point_radius > 0.0) {
+      Spread(r, c, range, config.point_radius);
+    } else {
+      Fill(r, c, range);
+    }
+  }
+}
+
+void DepthView::Spread(int row, int col, float range, double radius) {
+  // Half a cell is always covered; a point nearer than its radius covers at most a quarter turn.
+  constexpr int kMaxCells = 24;
+  const double angle = std::atan2(radius, static_cast<double>(range));
+  const int dr = std::min(kMaxCells, static_cast<int>(angle * inv_el_step_));
+  const int dc = std::min({kMaxCells, (cols_ - 1) / 2, static_cast<int>(angle * inv_az_step_)});
+  for (int r = std::max(0, row - dr); r <= std::min(rows_ - 1, row + dr); ++r) {
+    for (int c = col - dc; c <= col + dc; ++c) Fill(r, WrappedColumn(c), range);
   }
 }
 
@@ -72,6 +86,14 @@ bool DepthView::SeesThrough(const Eigen::Vector3d& p_world, double margin) const
 }
 
 bool DepthView::SeesThroughInViewFrame(const Eigen::Vector3d& q, double margin) const {
+  return Through(q, margin, false);
+}
+
+bool DepthView::SeesThroughOrNothingInViewFrame(const Eigen::Vector3d& q, double margin) const {
+  return Through(q, margin, true);
+}
+
+bool DepthView::Through(const Eigen::Vector3d& q, double margin, bool empty_passes) const {
   int row = 0, col = 0;
   if (!CellOf(q, row, col)) return false;
   const float needed = static_cast<float>(q.norm() + margin);
@@ -81,10 +103,17 @@ bool DepthView::SeesThroughInViewFrame(const Eigen::Vector3d& q, double margin) 
     for (int dc = -1; dc <= 1; ++dc) {
       const int c = WrappedColumn(col + dc);
       const float nearest = nearest_[static_cast<std::size_t>(r) * cols_ + c];
-      if (nearest == 0.0f || nearest <= needed) return false;
+      if (nearest == 0.0f ? !empty_passes : nearest <= needed) return false;
     }
   }
   return true;
+}
+
+bool DepthView::SeesSurfaceInViewFrame(const Eigen::Vector3d& q, double margin) const {
+  int row = 0, col = 0;
+  if (!CellOf(q, row, col)) return false;
+  const float nearest = nearest_[static_cast<std::size_t>(row) * cols_ + col];
+  return nearest > 0.0f && std::abs(static_cast<double>(nearest) - q.norm()) <= margin;
 }
 
 bool DepthView::Hides(const Eigen::Vector3d& p_world, double margin) const {

@@ -19,6 +19,12 @@ class DepthView {
     // a return; never finer than this.
     double min_azimuth_step_deg = 0.5;
     int columns_per_cell = 2;
+    // Metres each point stands for. 0: a point fills its own cell. A cloud thinned to one point
+    // per voxel (a keyframe's) leaves cells empty between its points; each point then fills
+    // the cells its voxel would cover as seen from the sensor, so that the view is as closed as
+    // the scan it came from. Spread points only shorten the nearest returns: never more seen
+    // through than with the full scan.
+    double point_radius = 0.0;
   };
 
   // points_sensor: the scan in the frame of T_world_sensor (deskewed).
@@ -33,10 +39,16 @@ class DepthView {
   // The same for a point already in this view's sensor frame (q = pose().inverse() * p_world),
   // for callers that moved a whole scan into the view's frame with one composed transform.
   bool SeesThroughInViewFrame(const Eigen::Vector3d& q, double margin) const;
+  // The same, but an empty cell counts as seen through too: for a point the caller knows was
+  // seen from farther away than it lies from this view, no return means nothing is there.
+  bool SeesThroughOrNothingInViewFrame(const Eigen::Vector3d& q, double margin) const;
 
   // Whether the return in the direction of p_world lies more than `margin` short of it: the
   // place was hidden behind something when this view was taken.
   bool Hides(const Eigen::Vector3d& p_world, double margin) const;
+  // Whether the nearest return in the direction of q (this view's sensor frame) lies within
+  // `margin` of it: the view saw a surface there.
+  bool SeesSurfaceInViewFrame(const Eigen::Vector3d& q, double margin) const;
 
   const Eigen::Isometry3d& pose() const { return T_world_sensor_; }
 
@@ -45,6 +57,14 @@ class DepthView {
   bool CellOf(const Eigen::Vector3d& q, int& row, int& col) const;
   // A column index at most one turn outside [0, cols_) brought back into it (no integer division).
   int WrappedColumn(int c) const { return c < 0 ? c + cols_ : (c >= cols_ ? c - cols_ : c); }
+  // Keeps `range` as the nearest return of cell (row, col) if it is nearer.
+  void Fill(int row, int col, float range) {
+    float& cell = nearest_[static_cast<std::size_t>(row) * cols_ + col];
+    if (cell == 0.0f || range < cell) cell = range;
+  }
+  // Fills the cells within `radius` metres of the point (Config::point_radius).
+  void Spread(int row, int col, float range, double radius);
+  bool Through(const Eigen::Vector3d& q, double margin, bool empty_passes) const;
 
   Eigen::Isometry3d T_world_sensor_;
   Eigen::Isometry3d T_sensor_world_;

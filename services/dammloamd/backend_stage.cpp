@@ -33,7 +33,9 @@ LoopClosureStage::LoopClosureStage(const dds::Participant& participant,
       writer_(participant, topic_, dds::LoopClosureQos()),
       backend_(StageBackendConfig(backend_config, verify_loops)),
       on_failure_(std::move(on_failure)),
-      fault_(std::move(fault)) {}
+      fault_(std::move(fault)) {
+  backend_.SetSensor(config.sensor);
+}
 
 void LoopClosureStage::Start() { thread_ = std::thread([this] { Loop(); }); }
 

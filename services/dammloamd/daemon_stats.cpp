@@ -57,24 +57,25 @@ void DaemonStats::ImuSampleFault(const std::string& reason, bool dropped) {
   ++counters_.imu_by_reason["sample:" + reason];
 }
 
-void DaemonStats::ImuScan(std::string_view why) {
-  std::lock_guard lock(mutex_);
+void DaemonStats::CountScan(std::string_view why, std::uint64_t& with, std::uint64_t& without,
+                            std::map<std::string, std::uint64_t>& by_reason) {
   if (why.empty()) {
-    ++counters_.scans_with_imu;
+    ++with;
     return;
   }
-  ++counters_.scans_without_imu;
-  ++counters_.imu_by_reason["scan:" + std::string(why)];
+  ++without;
+  ++by_reason["scan:" + std::string(why)];
+}
+
+void DaemonStats::ImuScan(std::string_view why) {
+  std::lock_guard lock(mutex_);
+  CountScan(why, counters_.scans_with_imu, counters_.scans_without_imu, counters_.imu_by_reason);
 }
 
 void DaemonStats::AccelerometerScan(std::string_view why) {
   std::lock_guard lock(mutex_);
-  if (why.empty()) {
-    ++counters_.scans_with_accelerometer;
-    return;
-  }
-  ++counters_.scans_without_accelerometer;
-  ++counters_.accelerometer_by_reason["scan:" + std::string(why)];
+  CountScan(why, counters_.scans_with_accelerometer, counters_.scans_without_accelerometer,
+            counters_.accelerometer_by_reason);
 }
 
 void DaemonStats::WheelSamples(std::uint64_t taken) {
@@ -90,12 +91,7 @@ void DaemonStats::WheelSampleFault(const std::string& reason, bool dropped) {
 
 void DaemonStats::WheelScan(std::string_view why) {
   std::lock_guard lock(mutex_);
-  if (why.empty()) {
-    ++counters_.scans_with_wheel;
-    return;
-  }
-  ++counters_.scans_without_wheel;
-  ++counters_.wheel_by_reason["scan:" + std::string(why)];
+  CountScan(why, counters_.scans_with_wheel, counters_.scans_without_wheel, counters_.wheel_by_reason);
 }
 
 void DaemonStats::Dropped(const std::string& where) {

@@ -82,6 +82,9 @@ class DaemonStats {
   StatusSnapshot Snapshot() const;
 
  private:
+  // One scan with an input (why empty) or without it for `why` ("scan:<why>" in by_reason).
+  static void CountScan(std::string_view why, std::uint64_t& with, std::uint64_t& without,
+                        std::map<std::string, std::uint64_t>& by_reason);
   void NoteError(const std::string& message);  // mutex_ held
 
   static constexpr std::size_t kLatencyWindow = 100;

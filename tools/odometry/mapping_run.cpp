@@ -107,6 +107,7 @@ int RunMapping(const RunnerOptions& o) {
     backend::BackendConfig backend_config = backend_parameters.loop_closing;
     if (!o.loop_closure) backend_config.max_verifications_per_keyframe = 0;
     backend = std::make_unique<backend::LoopClosingBackend>(backend_config);
+    backend->SetSensor(source->model());
   }
   EventLog events(o.events);
   std::optional<McapOutput> mcap;
