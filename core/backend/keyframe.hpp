@@ -44,6 +44,8 @@ struct MapData {
   // Global labelled map in the world frame (voxel-downsampled union of keyframe clouds).
   std::vector<Eigen::Vector3d> global_points;
   std::vector<PointClass> global_labels;
+  // Points the keyframes hold that later ones saw through, left out of global_points (not saved).
+  std::size_t vacated_points = 0;
 };
 
 }  // namespace dammloam::backend

@@ -392,6 +392,7 @@ MapData LoopClosingBackend::ExportMap() const {
                             : AssembleGlobalMap(map.keyframes, config_.global_map_voxel_size);
   map.global_points = std::move(global.points);
   map.global_labels = std::move(global.labels);
+  map.vacated_points = global.vacated;
   return map;
 }
 

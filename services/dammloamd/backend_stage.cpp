@@ -133,7 +133,8 @@ CommandOutcome LoopClosureStage::Save(const std::filesystem::path& dir) const {
     return {true, "saved " + std::to_string(map.keyframes.size()) + " keyframes (" +
                       std::to_string(pose_only) + " revisits kept as poses only), " +
                       std::to_string(map.loops.size()) + " loops, " +
-                      std::to_string(map.global_points.size()) + " map points to " +
+                      std::to_string(map.global_points.size()) + " map points (" +
+                      std::to_string(map.vacated_points) + " left out as vacated) to " +
                       dir.string() + " in " + std::to_string(seconds) + " s"};
   } catch (const std::exception& e) {  // io::IoError names the path and the problem
     return {false, std::string("saving the map failed: ") + e.what()};

@@ -173,8 +173,9 @@ int RunMapping(const RunnerOptions& o) {
     const backend::MapData map = backend->ExportMap();
     mapstore::SaveMap(o.save_map, map);
     if (!o.quiet) {
-      spdlog::info("map: {} keyframes, {} loops, {} points -> {}", map.keyframes.size(),
-                   map.loops.size(), map.global_points.size(), o.save_map.string());
+      spdlog::info("map: {} keyframes, {} loops, {} points ({} left out as vacated) -> {}",
+                   map.keyframes.size(), map.loops.size(), map.global_points.size(), map.vacated_points,
+                   o.save_map.string());
     }
   }
   if (o.quiet) return 0;
