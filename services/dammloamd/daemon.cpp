@@ -114,6 +114,7 @@ Daemon::Daemon(const DaemonConfig& config, const OdometryConfig& odometry_config
       received_(config.queue_capacity, config.max_backlog),
       featured_(config.queue_capacity, config.max_backlog),
       registered_(config.queue_capacity, kNeverDrop),  // every registered scan is published
+      labelled_(kLabelledQueueCapacity, kLabelledBacklog),
       participant_(static_cast<dds_domainid_t>(config.domain)),
       points_topic_(participant_, dammloam_msg_PointCloud_desc, config.topics.points,
                     dds::PointsQos(config.input_depth)),
@@ -195,6 +196,7 @@ void Daemon::Start() {
   PublishStatus(false, dammloam_msg_STATE_WAITING);
   if (loop_closure_) loop_closure_->Start();
   commands_->Start();
+  threads_.emplace_back([this] { LabelledLoop(); });
   threads_.emplace_back([this] { PublishLoop(); });
   threads_.emplace_back([this] { RegistrationLoop(); });
   threads_.emplace_back([this] { FeatureLoop(); });
@@ -390,7 +392,7 @@ void Daemon::PublishLoop() {
     std::optional<RegisteredScan> item =
         registered_.Pop(std::chrono::milliseconds(50), [](RegisteredScan&&) {});
     try {
-      if (item) Publish(*item);
+      if (item) Publish(std::move(*item));
       ReportMiddlewareDrops();
       if (std::chrono::steady_clock::now() >= next_status) {
         PublishStatus(false, RunningState());
@@ -405,12 +407,12 @@ void Daemon::PublishLoop() {
   }
 }
 
-void Daemon::Publish(const RegisteredScan& item) {
+void Daemon::Publish(RegisteredScan&& item) {
   InjectFault(Stage::kPublish);
   const OdometryResult& r = item.result;
   // In localization mode the pose and status say where the scan is in the loaded map.
   const std::optional<MapPose> located = Locate(r);
-  const Eigen::Isometry3d& T = located ? located->T_map_sensor : r.T_world_sensor;
+  const Eigen::Isometry3d T = located ? located->T_map_sensor : r.T_world_sensor;
   const std::string status_name = !located           ? std::string(Name(r.status))
                                   : located->localized ? "localized"
                                                        : "relocalizing";
@@ -431,36 +433,68 @@ void Daemon::Publish(const RegisteredScan& item) {
                       : loop_closure_ && config_.loop_closure ? loop_closure_->MapFromOdom()
                                                               : Eigen::Isometry3d::Identity());
   }
-
-  const int every = config_.labelled_cloud_every;
-  if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0) PublishLabelled(item, T);
-  ++published_;
   // A loaded map is never grown, and the back-end's own map stays as it was for save_map.
   if (loop_closure_ && Registered(r.status) && !located) loop_closure_->AddScan(r);
+
+  const int every = config_.labelled_cloud_every;
+  if (every > 0 && published_ % static_cast<std::uint64_t>(every) == 0) {
+    QueueLabelled(std::move(item), T);
+  }
+  ++published_;
 }
 
-void Daemon::PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d& T_map_sensor) {
-  const OdometryResult& r = item.result;
+// The cloud leaves with the scan's points (moved, not copied) for the labelled-cloud thread;
+// built only for topics someone reads.
+void Daemon::QueueLabelled(RegisteredScan&& item, const Eigen::Isometry3d& T_map_sensor) {
+  OdometryResult& r = item.result;
   if (r.deskewed_points.empty() || r.labels.size() != r.deskewed_points.size()) return;
-  dds::LabelledPoints points;
-  points.points_sensor = r.deskewed_points;
-  points.points_map.reserve(r.deskewed_points.size());
-  for (const auto& p : r.deskewed_points) points.points_map.push_back(T_map_sensor * p);
-  points.normals = r.normals;
-  points.labels = r.labels;
-  dds::CloudMessage cloud = dds::LabelledToCloud(points, item.meta.frame_id, item.meta.seq);
-  cloud.stamp = item.meta.stamp;
-  const dds::CloudView view(cloud);
-  dammloam_msg_LabelledCloud msg{};
-  msg.header.stamp = item.meta.stamp;
-  msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
-  msg.header.seq = published_;
-  msg.child_frame_id = const_cast<char*>(item.meta.frame_id.c_str());
-  msg.scan_index = r.scan_index;
-  msg.pose = dds::ToMsgPose(T_map_sensor);
-  msg.cloud = view.get();
-  labelled_writer_.Write(msg);
-  if (ros2_) PublishRos2Labelled(item, points);
+  const bool native = labelled_writer_.MatchedReaders() > 0;
+  const bool ros2 = ros2_ && ros2_->labelled_writer.MatchedReaders() > 0;
+  if (!native && !ros2) return;
+  LabelledJob job{item.meta, T_map_sensor, published_, r.scan_index, native, ros2, {}};
+  job.points.points_sensor = std::move(r.deskewed_points);
+  job.points.normals = std::move(r.normals);
+  job.points.labels = std::move(r.labels);
+  if (!labelled_.TryPush(std::move(job))) stats_.LabelledCloud(false);
+}
+
+void Daemon::LabelledLoop() {
+  const auto skip = [this](LabelledJob&&) { stats_.LabelledCloud(false); };
+  while (!stop_) {
+    std::optional<LabelledJob> job = labelled_.Pop(kWakeUp, skip);
+    if (!job) continue;
+    try {
+      PublishLabelled(*job);
+      stats_.LabelledCloud(true);
+    } catch (const std::exception& e) {
+      StageFailed(Stage::kPublish, std::string("labelled cloud: ") + e.what());
+    }
+  }
+}
+
+void Daemon::PublishLabelled(LabelledJob& job) {
+  dds::LabelledPoints& points = job.points;
+  points.points_map.reserve(points.points_sensor.size());
+  for (const auto& p : points.points_sensor) points.points_map.push_back(job.T_map_sensor * p);
+  if (job.native) {
+    dds::CloudMessage cloud = dds::LabelledToCloud(points, job.meta.frame_id, job.meta.seq);
+    cloud.stamp = job.meta.stamp;
+    const dds::CloudView view(cloud);
+    dammloam_msg_LabelledCloud msg{};
+    msg.header.stamp = job.meta.stamp;
+    msg.header.frame_id = const_cast<char*>(config_.map_frame.c_str());
+    msg.header.seq = job.header_seq;
+    msg.child_frame_id = const_cast<char*>(job.meta.frame_id.c_str());
+    msg.scan_index = job.scan_index;
+    msg.pose = dds::ToMsgPose(job.T_map_sensor);
+    msg.cloud = view.get();
+    labelled_writer_.Write(msg);
+  }
+  if (job.ros2) {
+    dds::CloudMessage cloud = dds::LabelledToRos2Cloud(points, Ros2SensorFrame(job.meta));
+    cloud.stamp = job.meta.stamp;
+    ros2_->labelled_writer.Write(dds::Ros2CloudView(cloud).get());
+  }
 }
 
 const std::string& Daemon::Ros2SensorFrame(const ScanMeta& meta) const {
@@ -484,12 +518,6 @@ void Daemon::PublishRos2(const RegisteredScan& item, const Eigen::Isometry3d& T_
   tf.transforms._length = tf.transforms._maximum = 2;
   tf.transforms._release = false;
   ros2_->tf_writer->Write(tf);
-}
-
-void Daemon::PublishRos2Labelled(const RegisteredScan& item, const dds::LabelledPoints& points) {
-  dds::CloudMessage cloud = dds::LabelledToRos2Cloud(points, Ros2SensorFrame(item.meta));
-  cloud.stamp = item.meta.stamp;
-  ros2_->labelled_writer.Write(dds::Ros2CloudView(cloud).get());
 }
 
 std::optional<MapPose> Daemon::Locate(const OdometryResult& result) {
@@ -622,6 +650,8 @@ void Daemon::PublishStatus(bool error_event, std::uint8_t state) {
   msg.scans_with_accelerometer = s.scans_with_accelerometer;
   msg.scans_without_accelerometer = s.scans_without_accelerometer;
   ViewAsSequence(accel, msg.accelerometer_by_reason);
+  msg.labelled_clouds_published = s.labelled_clouds_published;
+  msg.labelled_clouds_skipped = s.labelled_clouds_skipped;
   std::lock_guard lock(status_mutex_);
   msg.header.seq = status_seq_++;
   status_writer_.Write(msg);

@@ -1,6 +1,9 @@
 #pragma once
 // dammloamd's pipeline: four stages on their own threads joined by bounded SPSC queues
-//   receive+validate -q1-> features -q2-> registration + map update -q3-> publish
+//   receive+validate -q1-> features -q2-> registration + map update -q3-> publish poses
+//                                                                          -q4-> labelled clouds
+// (a thread of their own: a 128-beam cloud takes longer to write than a scan period, and a pose
+// must not wait behind it),
 // plus an optional loop-closure back-end thread fed by the publish stage (never on the odometry
 // path), and a command thread that answers Command samples (save_map runs on the back-end
 // thread, relocalize loads the map there and hands it to the publish stage). The feature stage reads the orientation predicted by the registration stage after the
@@ -51,6 +54,15 @@ struct RegisteredScan {
   ScanMeta meta;
   OdometryResult result;
 };
+// A labelled cloud on its way out: the scan's points with the pose they are drawn at.
+struct LabelledJob {
+  ScanMeta meta;
+  Eigen::Isometry3d T_map_sensor = Eigen::Isometry3d::Identity();
+  std::uint64_t header_seq = 0;  // the pose's Odometry.header.seq
+  std::uint64_t scan_index = 0;
+  bool native = false, ros2 = false;  // the topics that have readers
+  dds::LabelledPoints points;
+};
 
 // Defined in backend_stage.hpp / map_localization.hpp.
 class LoopClosureStage;
@@ -84,6 +96,7 @@ class Daemon {
   void FeedImu(double t_start);
   void FeedWheel(double t_start);
   void PublishLoop();
+  void LabelledLoop();
 
   void ReceiveGuarded(const std::function<void()>& handle);
   void HandleCloud(const dammloam_msg_PointCloud& cloud);
@@ -94,10 +107,10 @@ class Daemon {
   void Reject(const std::string& sample, const dammloam_msg_Time& stamp, const std::string& code,
               const std::string& problem);
   void Drop(const ScanMeta& meta, const std::string& where);
-  void Publish(const RegisteredScan& item);
-  void PublishLabelled(const RegisteredScan& item, const Eigen::Isometry3d& T_map_sensor);
+  void Publish(RegisteredScan&& item);
+  void QueueLabelled(RegisteredScan&& item, const Eigen::Isometry3d& T_map_sensor);
+  void PublishLabelled(LabelledJob& job);
   void PublishRos2(const RegisteredScan& item, const Eigen::Isometry3d& T_map_odom);
-  void PublishRos2Labelled(const RegisteredScan& item, const dds::LabelledPoints& points);
   const std::string& Ros2SensorFrame(const ScanMeta& meta) const;
   std::optional<MapPose> Locate(const OdometryResult& result);
   void PublishStatus(bool error_event, std::uint8_t state);
@@ -135,6 +148,10 @@ class Daemon {
   StageQueue<ReceivedScan> received_;
   StageQueue<FeatureScan> featured_;
   StageQueue<RegisteredScan> registered_;
+  // Four 262,144-point clouds (OS1-128 x 2048) hold ~40 MiB; two may wait behind the one being
+  // written before the oldest is skipped.
+  static constexpr std::size_t kLabelledQueueCapacity = 4, kLabelledBacklog = 2;
+  StageQueue<LabelledJob> labelled_;
 
   dds::Participant participant_;
   dds::Topic points_topic_, odometry_topic_, labelled_topic_, status_topic_;

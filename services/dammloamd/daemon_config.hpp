@@ -113,7 +113,10 @@ struct DaemonConfig {
   bool input_reliable = true;
   dds::CloudLimits limits;              // max_ring follows sensor.rings
   std::size_t queue_capacity = 8;       // each stage queue
-  std::size_t max_backlog = 1;          // scans allowed to wait behind the one in work
+  // Scans allowed to wait behind the one in work. 2 absorbs a 200 ms stall at 10 Hz: the first
+  // scans after start (the map and buffers grow, ~130 ms for a 128-beam scan) dropped two
+  // OS1-128 x 2048 scans at 1 and none at 2; a sustained overload still drops.
+  std::size_t max_backlog = 2;
   int labelled_cloud_every = 1;         // publish every Nth LabelledCloud; 0 = never
   double status_period = 1.0;           // seconds
   bool loop_closure = true;             // run the loop-closure back-end thread

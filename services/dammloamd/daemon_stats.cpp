@@ -94,6 +94,11 @@ void DaemonStats::WheelScan(std::string_view why) {
   CountScan(why, counters_.scans_with_wheel, counters_.scans_without_wheel, counters_.wheel_by_reason);
 }
 
+void DaemonStats::LabelledCloud(bool published) {
+  std::lock_guard lock(mutex_);
+  ++(published ? counters_.labelled_clouds_published : counters_.labelled_clouds_skipped);
+}
+
 void DaemonStats::Dropped(const std::string& where) {
   std::lock_guard lock(mutex_);
   ++counters_.dropped;

@@ -46,6 +46,7 @@ struct StatusSnapshot {
   // per "scan:<why>".
   std::uint64_t scans_with_accelerometer = 0, scans_without_accelerometer = 0;
   std::map<std::string, std::uint64_t> accelerometer_by_reason;
+  std::uint64_t labelled_clouds_published = 0, labelled_clouds_skipped = 0;
   double latency_median_ms = 0, latency_p95_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::string last_error;
   double last_error_wall_time = 0.0;  // seconds since the epoch
@@ -58,6 +59,8 @@ class DaemonStats {
   void Processed(double latency_ms, std::string_view tracking = "tracking",
                  std::string_view point_times = "usable");
   void Dropped(const std::string& where);
+  // A labelled cloud written, or skipped because the labelled-cloud thread fell behind.
+  void LabelledCloud(bool published);
   void Rejected(const std::string& code, const std::string& message);
   // An error that is not about a scan (a failed command): counted and shown as last_error.
   void Error(const std::string& message);

@@ -8,6 +8,7 @@
 #include <nanoflann.hpp>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "tools/simulate/simulator.hpp"
@@ -250,6 +251,48 @@ TEST(Simulator, Vlp16BeamsAreEveryTwoDegrees) {
   EXPECT_EQ(model.rings, 16);
   EXPECT_DOUBLE_EQ(model.min_range, 0.4);
   EXPECT_DOUBLE_EQ(model.max_range, 100.0);
+}
+
+TEST(Simulator, The128BeamSensorsHaveTheirRingsAndColumns) {
+  for (const std::string& name : SensorNames()) {
+    const auto spec = MakeSensorSpec(name);
+    ASSERT_TRUE(spec) << name;
+    EXPECT_EQ(spec->name, name);
+    EXPECT_EQ(Validate(*spec), "") << name;
+  }
+  const SensorSpec os1 = *MakeSensorSpec("os1-128x2048");
+  ASSERT_EQ(os1.rings(), 128);
+  EXPECT_EQ(os1.columns, 2048);
+  EXPECT_NEAR(os1.vertical_angles_deg.front() - os1.vertical_angles_deg[1], 45.0 / 127, 1e-12);
+  EXPECT_EQ(MakeSensorSpec("os1-128")->columns, 1024);
+
+  const SensorSpec vls = Vls128();
+  ASSERT_EQ(vls.rings(), 128);
+  EXPECT_EQ(vls.columns, 1800);
+  EXPECT_DOUBLE_EQ(vls.vertical_angles_deg.front(), 15.0);
+  EXPECT_NEAR(vls.vertical_angles_deg.back(), -25.0, 1e-12);
+  int fine = 0;  // gaps of 0.11 deg, all of them within a few degrees of the horizon
+  for (std::size_t r = 1; r < vls.vertical_angles_deg.size(); ++r) {
+    const double gap = vls.vertical_angles_deg[r - 1] - vls.vertical_angles_deg[r];
+    EXPECT_GT(gap, 0.1);
+    EXPECT_LT(gap, 0.5);
+    if (gap < 0.12) {
+      ++fine;
+      EXPECT_LT(std::abs(vls.vertical_angles_deg[r]), 4.1);
+    }
+  }
+  EXPECT_EQ(fine, 55);
+
+  // A scan of each: one return per beam and column at most, every ring seen outdoors.
+  for (const SensorSpec& spec : {os1, vls}) {
+    const Simulator sim(SceneKind::Outdoor, spec, Options(0.0));
+    const Scan scan = sim.SimulateScan(0);
+    EXPECT_LE(scan.size(), static_cast<std::size_t>(spec.rings() * spec.columns));
+    EXPECT_GT(scan.size(), static_cast<std::size_t>(spec.rings() * spec.columns / 2)) << spec.name;
+    std::vector<int> per_ring(128, 0);
+    for (std::size_t i = 0; i < scan.size(); ++i) ++per_ring[static_cast<std::size_t>(scan.rings[i])];
+    for (int r = 64; r < 128; ++r) EXPECT_GT(per_ring[static_cast<std::size_t>(r)], 0) << spec.name << " ring " << r;
+  }
 }
 
 TEST(Simulator, InvalidSensorIsRejectedWithAReason) {

@@ -63,6 +63,7 @@ struct ReceivedStatus {
   std::map<std::string, std::uint64_t> wheel_by_reason;
   std::uint64_t scans_with_accelerometer = 0, scans_without_accelerometer = 0;
   std::map<std::string, std::uint64_t> accelerometer_by_reason;
+  std::uint64_t labelled_clouds_published = 0, labelled_clouds_skipped = 0;
 };
 
 inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
@@ -74,7 +75,8 @@ inline ReceivedStatus CopyStatus(const dammloam_msg_DaemonStatus& m) {
                    m.imu_samples, m.imu_samples_dropped, m.scans_with_imu, m.scans_without_imu, {},
                    m.wheel_samples, m.wheel_samples_dropped, m.scans_with_wheel,
                    m.scans_without_wheel, {}, m.scans_with_accelerometer,
-                   m.scans_without_accelerometer, {}};
+                   m.scans_without_accelerometer, {}, m.labelled_clouds_published,
+                   m.labelled_clouds_skipped};
   for (std::uint32_t i = 0; i < m.imu_by_reason._length; ++i) {
     s.imu_by_reason[m.imu_by_reason._buffer[i].reason] = m.imu_by_reason._buffer[i].count;
   }

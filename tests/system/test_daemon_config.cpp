@@ -31,7 +31,7 @@ TEST(DaemonConfig, ShippedDefaultConfigLoadsAndValidates) {
   EXPECT_NO_THROW(ValidateDaemonConfig(config.daemon));
   EXPECT_EQ(config.daemon.topics.points, "dammloam_points");
   EXPECT_EQ(config.daemon.sensor.rings, 64);
-  EXPECT_EQ(config.daemon.max_backlog, 1u);
+  EXPECT_EQ(config.daemon.max_backlog, 2u);
 }
 
 TEST(DaemonConfig, MistakesAreReportedWithTheKey) {

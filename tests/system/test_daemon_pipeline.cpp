@@ -42,7 +42,11 @@ TEST_F(DaemonPipeline, EveryScanYieldsOneOdometryAndALabelledCloudWithValidLabel
   }
   client.WaitUntil([&] { return client.clouds.size() >= kScans; }, milliseconds(5000));
   client.WaitUntil([] { return false; }, milliseconds(300));  // no late duplicates either
+  const daemon::StatusSnapshot stats = daemon.Stats();
   daemon.Stop();
+  // In lock-step the labelled-cloud thread never falls behind the poses.
+  EXPECT_EQ(stats.labelled_clouds_published, static_cast<std::uint64_t>(kScans));
+  EXPECT_EQ(stats.labelled_clouds_skipped, 0u);
 
   ASSERT_EQ(client.poses.size(), static_cast<std::size_t>(kScans));
   for (int i = 0; i < kScans; ++i) {
@@ -81,6 +85,45 @@ TEST_F(DaemonPipeline, EveryScanYieldsOneOdometryAndALabelledCloudWithValidLabel
     EXPECT_GT(per_class[dammloam_msg_CLASS_GROUND], 0u) << "the zigzag scene has a floor";
     EXPECT_GT(per_class[dammloam_msg_CLASS_WALL], 0u) << "the zigzag scene has walls";
   }
+}
+
+// What a robot's own consumer of poses sees: a points writer and an Odometry reader, no
+// LabelledCloud reader. The clouds are then never built (a 128-beam one takes longer than a scan
+// period), and the poses are the same as with a reader.
+TEST_F(DaemonPipeline, LabelledCloudsAreBuiltOnlyWhileSomeoneReadsThem) {
+  constexpr std::uint32_t kDomain = 79;
+  constexpr int kScans = 4;
+  const sim::Simulator simulator = SmallSimulator(kScans);
+  daemon::Daemon daemon(PipelineTestConfig(kDomain, simulator), OdometryConfig{});
+  daemon.Start();
+  const dds::TopicNames names;
+  dds::Participant participant(kDomain);
+  const dds::Topic points_topic(participant, dammloam_msg_PointCloud_desc, names.points,
+                                dds::PointsQos());
+  const dds::Topic odometry_topic(participant, dammloam_msg_Odometry_desc, names.odometry,
+                                  dds::OdometryQos());
+  const dds::Writer<dammloam_msg_PointCloud> points(participant, points_topic, dds::PointsQos());
+  const dds::Reader<dammloam_msg_Odometry> odometry(participant, odometry_topic,
+                                                    {true, 100, false});
+  ASSERT_TRUE(points.WaitForReaders(1, milliseconds(10000)));
+  std::size_t poses = 0;
+  for (int i = 0; i < kScans; ++i) {
+    const dds::CloudMessage cloud = dds::ScanToCloud(simulator.SimulateScan(i), "lidar", i);
+    points.Write(dds::CloudView(cloud).get());
+    const auto deadline = std::chrono::steady_clock::now() + kPoseTimeout;
+    const std::size_t before = poses;
+    while (poses == before && std::chrono::steady_clock::now() < deadline) {
+      poses += static_cast<std::size_t>(
+          odometry.TakeEach([](const dammloam_msg_Odometry&, const dds_sample_info_t&) {}, 8));
+      std::this_thread::sleep_for(milliseconds(2));
+    }
+    ASSERT_EQ(poses, static_cast<std::size_t>(i + 1)) << "no pose for scan " << i;
+  }
+  const daemon::StatusSnapshot stats = daemon.Stats();
+  daemon.Stop();
+  EXPECT_EQ(stats.processed, static_cast<std::uint64_t>(kScans));
+  EXPECT_EQ(stats.labelled_clouds_published, 0u);
+  EXPECT_EQ(stats.labelled_clouds_skipped, 0u);
 }
 
 // A malformed variant of a valid cloud and the text its Status error must contain.
@@ -173,7 +216,7 @@ TEST_F(DaemonPipeline, OverloadDropsTheOldestScansAndCountsThem) {
   daemon.Stop();
   const auto stats = daemon.Stats();
   EXPECT_EQ(stats.received, static_cast<std::uint64_t>(kScans));
-  EXPECT_GT(stats.dropped, 0u) << "a burst of 10 scans must overflow a backlog of 1";
+  EXPECT_GT(stats.dropped, 0u) << "a burst of 10 scans must overflow a backlog of 2";
   EXPECT_EQ(stats.processed + stats.dropped, static_cast<std::uint64_t>(kScans));
   EXPECT_EQ(client.poses.size(), stats.processed);
   for (std::size_t i = 1; i < client.poses.size(); ++i) {

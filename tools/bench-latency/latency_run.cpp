@@ -63,6 +63,7 @@ class PoseCollector {
       if (it == sent_at_.end()) return;
       latencies_ms_.push_back(Ms(Clock::now() - it->second));
       processing_ms_.push_back(m.processing_ms);
+      in_daemon_ms_.push_back(m.latency_ms);
     }, 64);
   }
   std::size_t received() const { return latencies_ms_.size(); }
@@ -72,11 +73,13 @@ class PoseCollector {
     r.p99_ms = Percentile(latencies_ms_, 0.99);
     r.max_ms = Percentile(latencies_ms_, 1.0);
     r.core_median_ms = Percentile(processing_ms_, 0.5);
+    r.daemon_median_ms = Percentile(in_daemon_ms_, 0.5);
+    r.daemon_p99_ms = Percentile(in_daemon_ms_, 0.99);
   }
 
  private:
   std::map<std::pair<std::int32_t, std::uint32_t>, Clock::time_point> sent_at_;
-  std::vector<double> latencies_ms_, processing_ms_;
+  std::vector<double> latencies_ms_, processing_ms_, in_daemon_ms_;
 };
 
 // A scan waiting for its instant, and whether the source had not produced it yet at that instant.

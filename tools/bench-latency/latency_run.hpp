@@ -37,6 +37,9 @@ struct RunResult {
   std::size_t sent = 0, received = 0;
   double median_ms = 0, p99_ms = 0, max_ms = 0;
   double core_median_ms = 0;  // Odometry.processing_ms: features + registration + map
+  // Odometry.latency_ms: from the daemon's acceptance of the converted scan to the pose's
+  // publication (queues and stages); the rest of the latency is DDS and the conversion.
+  double daemon_median_ms = 0, daemon_p99_ms = 0;
   // Publishes later than kLatePublish after their instant, the worst lateness, and how many of
   // the late ones waited for their scan to be read (the read-ahead ran empty).
   std::size_t late_publishes = 0, late_waiting_for_scan = 0;

@@ -310,7 +310,7 @@ int main(int argc, char** argv) {
       ->excludes(sequence);
   app.add_option("--sweep", o.sweep, "higher rates tried until drops appear, Hz (simulated)")
       ->delimiter(',')->excludes(sequence);
-  app.add_option("--sensor", o.sensor, "simulated sensor (os1-64, vlp-16)")->excludes(sequence);
+  app.add_option("--sensor", o.sensor, "simulated sensor (os1-64, vlp-16, os1-128, os1-128x2048, vls-128)")->excludes(sequence);
   app.add_option("--scene", o.scene, "simulated scene")->excludes(sequence);
   app.add_option("--fallback", o.fallback, "lower rates tried when none held, Hz (simulated)")
       ->delimiter(',')->excludes(sequence);

@@ -12,6 +12,8 @@ void PrintRateRow(const RunResult& r) {
   std::printf("rate %5.1f Hz: %zu/%zu poses, latency median %.1f ms, p99 %.1f ms, max %.1f ms, "
               "core median %.1f ms/scan%s\n", r.rate, r.received, r.sent, r.median_ms, r.p99_ms,
               r.max_ms, r.core_median_ms, r.sustained() ? "" : "  (DROPS)");
+  std::printf("  inside dammloamd (accepted -> pose published): median %.1f ms, p99 %.1f ms; the "
+              "rest is DDS and the cloud's conversion\n", r.daemon_median_ms, r.daemon_p99_ms);
   if (r.late_publishes > 0) {
     std::printf("  LATE publishes: %zu more than %lld ms after their instant (worst %.1f ms; %zu "
                 "of them waited for the scan to be read)\n", r.late_publishes,
@@ -55,6 +57,8 @@ nlohmann::json ToJson(const RunResult& r) {
                    {"latency_p99_ms", r.p99_ms},
                    {"latency_max_ms", r.max_ms},
                    {"core_median_ms", r.core_median_ms},
+                   {"daemon_median_ms", r.daemon_median_ms},
+                   {"daemon_p99_ms", r.daemon_p99_ms},
                    {"late_publishes", r.late_publishes},
                    {"late_waiting_for_scan", r.late_waiting_for_scan},
                    {"max_lateness_ms", r.max_lateness_ms}};

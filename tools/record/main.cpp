@@ -78,7 +78,9 @@ nlohmann::json StatusJson(const dammloam_msg_DaemonStatus& s) {
           {"wheel_by_reason", ReasonsJson(s.wheel_by_reason)},
           {"scans_with_accelerometer", s.scans_with_accelerometer},
           {"scans_without_accelerometer", s.scans_without_accelerometer},
-          {"accelerometer_by_reason", ReasonsJson(s.accelerometer_by_reason)}};
+          {"accelerometer_by_reason", ReasonsJson(s.accelerometer_by_reason)},
+          {"labelled_clouds_published", s.labelled_clouds_published},
+          {"labelled_clouds_skipped", s.labelled_clouds_skipped}};
 }
 
 nlohmann::json LoopJson(const dammloam_msg_LoopClosure& l) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <string>
 
 namespace dammloam::sim {
 
@@ -26,13 +27,49 @@ SensorSpec Vlp16() {
   return spec;
 }
 
+SensorSpec Os1_128(int columns) {
+  SensorSpec spec;
+  spec.name = columns == 1024 ? "os1-128" : "os1-128x" + std::to_string(columns);
+  spec.columns = columns;
+  spec.vertical_angles_deg = UniformVerticalAngles(128, 22.5, -22.5);
+  spec.min_range = 0.3;
+  spec.max_range = 120.0;
+  return spec;
+}
+
+SensorSpec Vls128() {
+  SensorSpec spec;
+  spec.name = "vls-128";
+  spec.columns = 1800;
+  // Velodyne packs its finest spacing around the horizon, where a car's distant targets are;
+  // the band's edges and the coarse spacing above and below are an approximation of that shape.
+  const double band_top = 2.0, band_step = 0.11;
+  const int band_rings = 56, upper_rings = 28, lower_rings = 44;
+  const double band_bottom = band_top - (band_rings - 1) * band_step;
+  const double upper_step = (15.0 - band_top) / upper_rings;
+  const double lower_step = (band_bottom - (-25.0)) / lower_rings;
+  for (int r = 0; r < upper_rings; ++r) spec.vertical_angles_deg.push_back(15.0 - r * upper_step);
+  for (int r = 0; r < band_rings; ++r) spec.vertical_angles_deg.push_back(band_top - r * band_step);
+  for (int r = 1; r <= lower_rings; ++r) {
+    spec.vertical_angles_deg.push_back(band_bottom - r * lower_step);
+  }
+  spec.min_range = 0.5;
+  spec.max_range = 200.0;
+  return spec;
+}
+
 std::optional<SensorSpec> MakeSensorSpec(std::string_view name) {
   if (name == "os1-64") return Os1_64();
   if (name == "vlp-16") return Vlp16();
+  if (name == "os1-128") return Os1_128(1024);
+  if (name == "os1-128x2048") return Os1_128(2048);
+  if (name == "vls-128") return Vls128();
   return std::nullopt;
 }
 
-std::vector<std::string> SensorNames() { return {"os1-64", "vlp-16"}; }
+std::vector<std::string> SensorNames() {
+  return {"os1-64", "vlp-16", "os1-128", "os1-128x2048", "vls-128"};
+}
 
 std::vector<double> UniformVerticalAngles(int rings, double up_deg, double down_deg) {
   if (rings <= 0) return {};

@@ -25,7 +25,13 @@ struct SensorSpec {
 SensorSpec Os1_64();
 // Velodyne VLP-16-like: 16 rings -15..+15 deg every 2 deg, 1800 columns at 10 Hz, 0.4-100 m.
 SensorSpec Vlp16();
-// "os1-64" or "vlp-16"; nullopt for any other name.
+// Ouster OS1-128-like: 128 rings uniform over +-22.5 deg, `columns` (512, 1024 or 2048) at 10 Hz,
+// 0.3-120 m; named "os1-128" at 1024 columns, else "os1-128x<columns>".
+SensorSpec Os1_128(int columns);
+// Velodyne VLS-128-like (Alpha Prime): 128 rings over +15..-25 deg, 56 of them 0.11 deg apart
+// from +2 deg down, the rest about 0.47 deg apart; 1800 columns at 10 Hz, 0.5-200 m.
+SensorSpec Vls128();
+// A name of SensorNames(); nullopt for any other name.
 std::optional<SensorSpec> MakeSensorSpec(std::string_view name);
 std::vector<std::string> SensorNames();
 
