@@ -4,18 +4,26 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace dammloam::sim {
 
-SensorSpec Os1_64() {
+namespace {
+
+// The OS1's 45 deg vertical field, its rings spread uniformly.
+SensorSpec Os1(std::string name, int rings, int columns) {
   SensorSpec spec;
-  spec.name = "os1-64";
-  spec.columns = 1024;
-  spec.vertical_angles_deg = UniformVerticalAngles(64, 22.5, -22.5);
+  spec.name = std::move(name);
+  spec.columns = columns;
+  spec.vertical_angles_deg = UniformVerticalAngles(rings, 22.5, -22.5);
   spec.min_range = 0.3;
   spec.max_range = 120.0;
   return spec;
 }
+
+}  // namespace
+
+SensorSpec Os1_64() { return Os1("os1-64", 64, 1024); }
 
 SensorSpec Vlp16() {
   SensorSpec spec;
@@ -28,13 +36,7 @@ SensorSpec Vlp16() {
 }
 
 SensorSpec Os1_128(int columns) {
-  SensorSpec spec;
-  spec.name = columns == 1024 ? "os1-128" : "os1-128x" + std::to_string(columns);
-  spec.columns = columns;
-  spec.vertical_angles_deg = UniformVerticalAngles(128, 22.5, -22.5);
-  spec.min_range = 0.3;
-  spec.max_range = 120.0;
-  return spec;
+  return Os1(columns == 1024 ? "os1-128" : "os1-128x" + std::to_string(columns), 128, columns);
 }
 
 SensorSpec Vls128() {
