@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/benchmark/heap_allocations.hpp"
 #include "tools/benchmark/sim_run.hpp"
 #include "io/config_yaml.hpp"
 #include "io/process_memory.hpp"
@@ -191,6 +192,7 @@ struct SeedResult {
   bench::TrajectoryErrors errors;
   std::vector<double> features_ms, registration_ms, map_update_ms, total_ms, iterations, map_points;
   std::vector<double> searched_points;  // map lookups per scan
+  std::vector<double> allocations;      // heap allocations per scan after the warm-up
   std::size_t registered = 0;
   std::size_t degenerate = 0;
   std::string failure;  // peers: why the run gave no result
@@ -238,6 +240,8 @@ struct Aggregate {
   Percentiles features, registration, map_update, total;
   double iterations_median = 0, map_median = 0, map_max = 0;
   double searched_points_median = 0;
+  Percentiles allocations;  // per scan after the warm-up (kAllocationWarmUpScans)
+  bool allocations_counted = false;
   double degenerate_share = 0, registered_share = 0;
   // Moving labels against the simulator's truth, pooled over seeds, and the worst seed's.
   bool has_truth = false;
@@ -285,6 +289,9 @@ Aggregate Summarise(const Row& row) {
   a.total = bench::ComputePercentiles(Pool(row, &SeedResult::total_ms));
   a.iterations_median = Median(Pool(row, &SeedResult::iterations));
   a.searched_points_median = Median(Pool(row, &SeedResult::searched_points));
+  const std::vector<double> allocations = Pool(row, &SeedResult::allocations);
+  a.allocations_counted = !allocations.empty();
+  a.allocations = bench::ComputePercentiles(allocations);
   const Percentiles map = bench::ComputePercentiles(Pool(row, &SeedResult::map_points));
   a.map_median = map.median;
   a.map_max = map.max;
@@ -293,6 +300,9 @@ Aggregate Summarise(const Row& row) {
   return a;
 }
 
+// Scans before the steady state: the map, the pools and every per-scan buffer still grow.
+constexpr std::size_t kAllocationWarmUpScans = 100;
+
 SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const bench::ModeTrace& trace) {
   SeedResult r;
   r.seed = seed;
@@ -300,6 +310,10 @@ SeedResult FromTrace(std::uint64_t seed, const bench::ScanStream& stream, const 
   r.errors = bench::EvaluateEstimate(stream.ground_truth, trace.Estimate());
   r.has_truth = static_cast<bool>(stream.labelled_scan);
   r.moving_labels = trace.MovingLabels();
+  for (std::size_t i = kAllocationWarmUpScans;
+       bench::HeapAllocationsCounted() && i < trace.scans.size(); ++i) {
+    r.allocations.push_back(static_cast<double>(trace.scans[i].allocations));
+  }
   for (const bench::ScanRecord& s : trace.scans) {
     const StageTimings& t = s.timings;
     r.features_ms.push_back(t.projection_ms + t.normals_ms + t.classification_ms);
@@ -670,6 +684,11 @@ void PrintMovingLabels(const Aggregate& a) {
               m.mismatched_scans ? ", some scans not scored" : "");
 }
 
+void PrintAllocations(const Aggregate& a) {
+  std::printf("  %-22s heap allocations per scan after scan %zu: median %.0f, p99 %.0f, max %.0f\n", "",
+              kAllocationWarmUpScans, a.allocations.median, a.allocations.p99, a.allocations.max);
+}
+
 // "kiss +0.100s": a peer's row names the time offset its poses were evaluated at.
 std::string PeerLabel(const Row& row) {
   char buf[64];
@@ -737,6 +756,7 @@ void PrintGroup(const Options& o, const GroupResult& r) {
                   Thousands(a.searched_points_median).c_str(), Kilo(a.map_median).c_str(),
                   Kilo(a.map_max).c_str(), 100.0 * a.degenerate_share);
       if (a.has_truth) PrintMovingLabels(a);
+      if (a.allocations_counted) PrintAllocations(a);
     }
   }
   if (!o.peers.empty()) {
@@ -822,6 +842,10 @@ nlohmann::json ToJson(const GroupResult& r, const Options& o) {
       e["ms"]["map_update"] = ToJson(a.map_update);
       e["median_iterations"] = a.iterations_median;
       e["median_searched_points"] = a.searched_points_median;
+      if (a.allocations_counted) {
+        e["heap_allocations_per_scan"] = ToJson(a.allocations);
+        e["heap_allocations_warm_up_scans"] = kAllocationWarmUpScans;
+      }
       e["map_points"] = {{"median", a.map_median}, {"max", a.map_max}};
       e["degenerate_share"] = a.degenerate_share;
       e["registered_share"] = a.registered_share;

@@ -11,6 +11,7 @@
 #include "core/odometry/pipeline.hpp"
 #include "core/preprocess/feature_extractor.hpp"
 #include "io/sequence_io.hpp"
+#include "tools/benchmark/heap_allocations.hpp"
 #include "tools/evaluate/associate.hpp"
 #include "tools/evaluate/trajectory_metrics.hpp"
 
@@ -176,8 +177,11 @@ std::vector<ModeTrace> StreamModes(const ScanStream& stream,
   for (std::size_t i = 0; i < stream.size(); ++i) {
     const Scan scan = stream.labelled_scan ? stream.labelled_scan(i, truth) : stream.scan(i);
     for (std::size_t m = 0; m < pipelines.size(); ++m) {
+      const std::uint64_t allocations_before = HeapAllocations();
       const OdometryResult result = pipelines[m]->Process(scan);
+      const std::uint64_t allocations = HeapAllocations() - allocations_before;
       traces[m].scans.push_back(ToRecord(result));
+      traces[m].scans.back().allocations = allocations;
       if (stream.labelled_scan) {
         traces[m].scans.back().moving_labels =
             ScoreMovingLabels(truth, extractors[m].KeptPoints(scan), result.labels);

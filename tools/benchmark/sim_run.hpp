@@ -89,6 +89,8 @@ struct ScanRecord {
   bool degenerate = false;  // registered with at least one degenerate direction
   ClassCounts class_counts{};
   MovingLabelScore moving_labels;  // against the stream's truth (empty without one)
+  // Heap allocations during Process (HeapAllocations(); 0 where not counted).
+  std::uint64_t allocations = 0;
 };
 ScanRecord ToRecord(const OdometryResult& result);
 
