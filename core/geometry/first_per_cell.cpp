@@ -29,12 +29,22 @@ std::size_t RecentSlotOf(const ClassVoxel& cell, std::size_t slots) {
 std::vector<std::size_t> FirstPerCell::Select(
     const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
     const std::array<double, kNumPointClasses>& voxel_sizes) {
+  std::vector<std::size_t> kept;
+  Select(points, labels, voxel_sizes, kept);
+  return kept;
+}
+
+void FirstPerCell::Select(const std::vector<Eigen::Vector3d>& points,
+                          const std::vector<PointClass>& labels,
+                          const std::array<double, kNumPointClasses>& voxel_sizes,
+                          std::vector<std::size_t>& kept) {
   const std::size_t n = points.size();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   cells_.resize(n);
   partition_.resize(n);
   // Per block, how many of its points each partition holds.
-  std::vector<std::array<std::size_t, kPartitions>> counts(blocks);
+  std::vector<std::array<std::size_t, kPartitions>>& counts = block_counts_;
+  counts.resize(blocks);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     const std::size_t end = std::min(n, (b + 1) * kBlock);
     ClassVoxel* const cells = cells_.data();
@@ -77,35 +87,39 @@ std::vector<std::size_t> FirstPerCell::Select(
   });
   kept_.assign(n, 0);
   tbb::parallel_for(std::size_t{0}, kPartitions, [&](std::size_t p) { KeepFirstOfPartition(p); });
-  return GatherKept();
+  GatherKept(kept);
 }
 
 // The kept indices in order, gathered block by block by all threads.
-std::vector<std::size_t> FirstPerCell::GatherKept() const {
+void FirstPerCell::GatherKept(std::vector<std::size_t>& kept) {
   const std::size_t n = kept_.size();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::size_t> start(blocks + 1, 0);
+  std::vector<std::size_t>& start = block_starts_;
+  start.assign(blocks + 1, 0);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     const auto first = kept_.begin() + static_cast<std::ptrdiff_t>(b * kBlock);
     const auto last = kept_.begin() + static_cast<std::ptrdiff_t>(std::min(n, (b + 1) * kBlock));
     start[b + 1] = static_cast<std::size_t>(std::count(first, last, std::uint8_t{1}));
   });
   for (std::size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
-  std::vector<std::size_t> kept(start[blocks]);
+  kept.resize(start[blocks]);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     std::size_t next = start[b];
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
       if (kept_[i]) kept[next++] = i;
     }
   });
-  return kept;
 }
 
 void FirstPerCell::KeepFirstOfPartition(std::size_t partition) {
   auto& seen = seen_[partition];
   seen.clear();  // keeps the buckets
   const std::size_t begin = partition_start_[partition], end = partition_start_[partition + 1];
-  seen.reserve((end - begin) / 4 + 1);
+  // tsl's reserve rebuilds the table even when it is large enough: only when it is not.
+  const std::size_t expected = (end - begin) / 4 + 1;
+  if (static_cast<float>(seen.bucket_count()) * seen.max_load_factor() < static_cast<float>(expected)) {
+    seen.reserve(expected);
+  }
   // Neighbouring firings mostly revisit the cells the last few firings filled. A small
   // direct-mapped cache of cells already in the table (L1-resident, unlike the table) answers
   // those without a table lookup; it only ever holds seen cells, so a hit is never a new cell.

@@ -23,6 +23,10 @@ class FirstPerCell {
   std::vector<std::size_t> Select(const std::vector<Eigen::Vector3d>& points,
                                   const std::vector<PointClass>& labels,
                                   const std::array<double, kNumPointClasses>& voxel_sizes);
+  // The same into `kept` (its capacity reused).
+  void Select(const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
+              const std::array<double, kNumPointClasses>& voxel_sizes,
+              std::vector<std::size_t>& kept);
 
  private:
   static constexpr std::size_t kPartitions = 4;
@@ -31,7 +35,7 @@ class FirstPerCell {
     std::uint32_t index;  // of the point
   };
   void KeepFirstOfPartition(std::size_t partition);
-  std::vector<std::size_t> GatherKept() const;
+  void GatherKept(std::vector<std::size_t>& kept);
 
   std::vector<ClassVoxel> cells_;
   std::vector<std::uint8_t> partition_;
@@ -41,6 +45,8 @@ class FirstPerCell {
   std::vector<OrderedCell> ordered_;
   std::array<std::size_t, kPartitions + 1> partition_start_{};
   std::vector<std::uint8_t> kept_;
+  std::vector<std::array<std::size_t, kPartitions>> block_counts_;  // Select's, per block
+  std::vector<std::size_t> block_starts_;                             // GatherKept's
   std::array<tsl::robin_set<ClassVoxel, ClassVoxelHash>, kPartitions> seen_;
 };
 

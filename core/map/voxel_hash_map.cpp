@@ -29,10 +29,12 @@ void VoxelHashMap::Update(const std::vector<Eigen::Vector3d>& points,
                           const Eigen::Isometry3d& T_world_sensor) {
   const bool has_normals = normals.size() == points.size();
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
-  std::vector<MapPoint> world(points.size());
+  std::vector<MapPoint>& world = update_points_;
+  world.resize(points.size());
   // The voxels too, here in parallel: insertion is serial, and it needed each point's voxel
   // twice (the lookup and the change log), three divisions and floors each time.
-  std::vector<Voxel> voxels(points.size());
+  std::vector<Voxel>& voxels = update_voxels_;
+  voxels.resize(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
@@ -166,12 +168,18 @@ void VoxelHashMap::ChangeLog::Add(const Voxel& voxel, VoxelBlock& block) {
 }
 
 VoxelHashMap::Changes VoxelHashMap::TakeChanges() {
-  Changes out{changes_.all, std::move(changes_.voxels)};
+  Changes out;
+  TakeChanges(out);
+  return out;
+}
+
+void VoxelHashMap::TakeChanges(Changes& into) {
+  into.all = changes_.all;
+  into.voxels.swap(changes_.voxels);  // the two lists' buffers take turns
   changes_.voxels.clear();
   changes_.all = false;
   changes_.listing = true;
   ++changes_.list;
-  return out;
 }
 
 namespace {

@@ -83,6 +83,7 @@ class VoxelHashMap {
     std::vector<Voxel> voxels;  // each voxel changed at most once per list
   };
   Changes TakeChanges();
+  void TakeChanges(Changes& into);  // the same, reusing into's buffer
 
   std::vector<MapPoint> Points() const;
   std::size_t NumPoints() const { return num_points_; }
@@ -172,6 +173,9 @@ class VoxelHashMap {
   std::size_t num_points_ = 0;
   std::optional<Eigen::Vector3d> last_crop_origin_;
   ChangeLog changes_;
+  // Update's buffers, kept between scans.
+  std::vector<MapPoint> update_points_;
+  std::vector<Voxel> update_voxels_;
 };
 
 template <typename Predicate>

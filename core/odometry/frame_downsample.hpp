@@ -15,6 +15,8 @@ class ClassVoxelSampler {
   // Indices (ascending) of the kept points; a point without a label counts as unknown.
   std::vector<std::size_t> Select(const std::vector<Eigen::Vector3d>& points,
                                   const std::vector<PointClass>& labels, double voxel_size);
+  void Select(const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
+              double voxel_size, std::vector<std::size_t>& kept);  // the same into `kept`
 
  private:
   FirstPerCell first_per_cell_;  // scratch, kept between scans

@@ -92,6 +92,16 @@ std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_
   return out;
 }
 
+// The same into `out` (its capacity reused).
+template <typename T>
+const std::vector<T>& GatherInto(const std::vector<T>& values,
+                                 const std::vector<std::size_t>& indices, std::vector<T>& out) {
+  out.clear();
+  if (values.empty()) return out;
+  for (std::size_t i : indices) out.push_back(values[i]);
+  return out;
+}
+
 }  // namespace
 
 Odometry::Odometry(const OdometryConfig& config, const SensorModel& sensor)
@@ -151,12 +161,14 @@ void Odometry::RebuildMapFromFirstScan(const Vector6d& velocity) {
 void Odometry::UpdateMap(const ClassifiedScan& scan, const Eigen::Isometry3d& T_world_sensor,
                          const std::vector<std::uint8_t>& moving,
                          const std::vector<std::uint8_t>& compact) {
-  std::vector<std::size_t> kept = map_sampler_.Select(
-      scan.scan.points, scan.labels, config_.map_frame_voxel_factor * map_.voxel_size());
+  MapInput& in = map_input_;
+  std::vector<std::size_t>& kept = in.indices;
+  map_sampler_.Select(scan.scan.points, scan.labels,
+                      config_.map_frame_voxel_factor * map_.voxel_size(), kept);
   WithoutMoving(kept, moving);
   KeepPersistent(kept, scan, T_world_sensor, compact);
-  map_.Update(Gather(scan.scan.points, kept), Gather(scan.labels, kept),
-              Gather(scan.normals, kept), T_world_sensor);
+  map_.Update(GatherInto(scan.scan.points, kept, in.points), GatherInto(scan.labels, kept, in.labels),
+              GatherInto(scan.normals, kept, in.normals), T_world_sensor);
 }
 
 void Odometry::KeepPersistent(std::vector<std::size_t>& kept, const ClassifiedScan& scan,
@@ -220,7 +232,8 @@ Eigen::Isometry3d Odometry::DeskewWithGyro(ClassifiedScan& scan, const Vector6d&
 
 void Odometry::SelectSource(Frame& frame) {
   const ClassifiedScan& scan = frame.scan;
-  std::vector<std::size_t> idx = downsampler_.Select(scan.scan.points, scan.labels);
+  std::vector<std::size_t>& idx = source_indices_;
+  downsampler_.Select(scan.scan.points, scan.labels, idx);
   WithoutMoving(idx, frame.moving);
   frame.set_aside = frame.moving;
   frame.objects_set_aside = 0;
@@ -569,10 +582,11 @@ RegistrationResult Odometry::RegisterSource(const Frame& frame, const MotionPrio
     registration.degenerate_eigenvalue_ratio = registration.degenerate_release_ratio;
   }
   const double sigma = gate_widening * threshold_.Sigma();
-  map_shapes_.Forget(map_.TakeChanges());
+  map_.TakeChanges(map_changes_);
+  registration_.shapes.Forget(map_changes_);
   return RegisterScan(frame.source.points, frame.source.labels, map_, frame.T_guess,
                       kGateSigmas * sigma, sigma / kGateSigmas, registration, prior,
-                      frame.source.times, &map_shapes_);
+                      frame.source.times, &registration_);
 }
 
 // Registration measured how the scan's own motion departs from the velocity it was deskewed
@@ -768,7 +782,7 @@ bool Odometry::StartOverAfterLoss() {
 // but in the same world frame.
 void Odometry::Restart(Frame& frame) {
   map_ = VoxelHashMap(map_.voxel_size(), config_.map.max_distance, config_.map.max_points_per_voxel);
-  map_shapes_ = ShapeCache();
+  registration_.shapes = ShapeCache();
   persistence_.Clear();
   moving_.Clear();
   health_.Clear();

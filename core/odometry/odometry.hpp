@@ -250,8 +250,20 @@ class Odometry {
   SensorModel sensor_;
   ClassAwareDownsampler downsampler_;
   ClassVoxelSampler map_sampler_;
+  // Buffers kept between scans (no allocation per scan): the source's indices, what goes into
+  // the map, the map's changes for the shape cache.
+  std::vector<std::size_t> source_indices_;
+  struct MapInput {
+    std::vector<std::size_t> indices;
+    std::vector<Eigen::Vector3d> points;
+    std::vector<PointClass> labels;
+    std::vector<Eigen::Vector3f> normals;
+  };
+  MapInput map_input_;
+  VoxelHashMap::Changes map_changes_;
   VoxelHashMap map_;
-  ShapeCache map_shapes_;  // the shapes registration judged on map_, kept while map_ keeps them
+  // The shapes registration judged on map_ (kept while map_ keeps them) and its buffers.
+  RegistrationWorkspace registration_;
   AdaptiveThreshold threshold_;
   MovingPoints moving_;
   CompactObjects compact_objects_;

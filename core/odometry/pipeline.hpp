@@ -15,8 +15,8 @@ class OdometryPipeline {
   OdometryPipeline(const OdometryConfig& config, const SensorModel& sensor);
 
   OdometryResult Process(Scan scan);
-  // The feature half alone (what the daemon's first thread does).
-  ClassifiedScan Extract(Scan scan) const;
+  // The feature half alone (what the daemon's first thread does); one thread at a time.
+  ClassifiedScan Extract(Scan scan);
 
   const Odometry& odometry() const { return odometry_; }
   Odometry& odometry() { return odometry_; }
@@ -25,6 +25,7 @@ class OdometryPipeline {
   OdometryConfig config_;
   SensorModel sensor_;
   FeatureExtractor extractor_;
+  FeatureWorkspace features_;
   Odometry odometry_;
 };
 

@@ -7,7 +7,8 @@ namespace dammloam {
 
 double TrackingHealth::ReferenceShare() const {
   if (recent_shares_.empty()) return 0.0;
-  std::vector<double> sorted(recent_shares_.begin(), recent_shares_.end());
+  std::vector<double>& sorted = sorted_shares_;
+  sorted.assign(recent_shares_.begin(), recent_shares_.end());
   auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
   std::nth_element(sorted.begin(), mid, sorted.end());
   return *mid;

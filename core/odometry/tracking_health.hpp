@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <vector>
 #include <string_view>
 
 namespace dammloam {
@@ -73,6 +74,7 @@ class TrackingHealth {
  private:
   TrackingHealthConfig config_;
   std::deque<double> recent_shares_;
+  mutable std::vector<double> sorted_shares_;  // ReferenceShare's buffer (one thread uses this)
 };
 
 }  // namespace dammloam

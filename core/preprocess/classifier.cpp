@@ -125,6 +125,13 @@ PointClass Classifier::Decide(const WindowSummary& window, bool centre_valid,
 
 std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
                                              const Eigen::Matrix3d& R_world_sensor) const {
+  Buffers buffers;
+  Classify(normal_map, R_world_sensor, buffers);
+  return std::move(buffers.labels);
+}
+
+void Classifier::Classify(const NormalMap& normal_map, const Eigen::Matrix3d& R_world_sensor,
+                          Buffers& buffers) const {
   const int rows = normal_map.rows();
   const int cols = normal_map.cols();
   const auto& valid = normal_map.validity();
@@ -132,8 +139,10 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
   const Eigen::Matrix3f R = R_world_sensor.cast<float>();
 
   // Gravity-aligned normals and their votes once per pixel, not once per window they are in.
-  std::vector<Eigen::Vector3f> aligned(normals.size());
-  std::vector<PointClass> pixel_votes(normals.size(), PointClass::Unknown);
+  std::vector<Eigen::Vector3f>& aligned = buffers.aligned;
+  std::vector<PointClass>& pixel_votes = buffers.pixel_votes;
+  aligned.resize(normals.size());
+  pixel_votes.assign(normals.size(), PointClass::Unknown);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, normals.size(), 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -143,9 +152,11 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
                       }
                     });
 
-  std::vector<PointClass> labels(normals.size(), PointClass::Unknown);
+  std::vector<PointClass>& labels = buffers.labels;
+  labels.assign(normals.size(), PointClass::Unknown);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& rr) {
-    std::vector<WindowSummary> columns(static_cast<std::size_t>(cols));
+    std::vector<WindowSummary>& columns = buffers.columns.local();
+    columns.resize(static_cast<std::size_t>(cols));
     for (int r = rr.begin(); r < rr.end(); ++r) {
       const int first_row = std::max(r - 1, 0), last_row = std::min(r + 1, rows - 1);
       // Per column, the window's rows; a window is then three neighbouring columns.
@@ -179,7 +190,6 @@ std::vector<PointClass> Classifier::Classify(const NormalMap& normal_map,
       }
     }
   });
-  return labels;
 }
 
 }  // namespace dammloam

@@ -1,4 +1,6 @@
 #pragma once
+#include <tbb/enumerable_thread_specific.h>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -25,17 +27,6 @@ namespace dammloam {
 // With require_centre_normal, rules 3-5 also need the centre pixel's own normal to be valid.
 // Ground, roof and wall majorities are mutually exclusive, so their order is immaterial.
 class Classifier {
- public:
-  explicit Classifier(const ClassifierConfig& config);
-
-  // One label per pixel, row-major (rows * cols). Labels of empty pixels mean nothing.
-  std::vector<PointClass> Classify(const NormalMap& normals,
-                                   const Eigen::Matrix3d& R_world_sensor) const;
-
-  // The rules above for one window of valid, unit, gravity-aligned normals (any count).
-  PointClass ClassifyWindow(const Eigen::Vector3f* normals, int count, bool centre_valid) const;
-
- private:
   // What rules 1 and 3-5 need of a window, and rule 2 on most windows: the count of valid
   // normals, their sum and their votes. Classify() adds these up from per-column sums; the
   // normals themselves are gathered only where the cheap edge bound cannot decide.
@@ -57,6 +48,30 @@ class Classifier {
     }
     static constexpr int kCountShift = 56;
   };
+
+ public:
+  explicit Classifier(const ClassifierConfig& config);
+
+  // What Classify computes into, kept between scans by its caller (one per thread): no
+  // allocation once an image as large has been classified.
+  struct Buffers {
+    std::vector<PointClass> labels;  // the result: one per pixel, row-major
+    std::vector<Eigen::Vector3f> aligned;
+    std::vector<PointClass> pixel_votes;
+    tbb::enumerable_thread_specific<std::vector<WindowSummary>> columns;
+  };
+
+  // One label per pixel, row-major (rows * cols). Labels of empty pixels mean nothing.
+  std::vector<PointClass> Classify(const NormalMap& normals,
+                                   const Eigen::Matrix3d& R_world_sensor) const;
+  // The same into buffers.labels.
+  void Classify(const NormalMap& normals, const Eigen::Matrix3d& R_world_sensor,
+                Buffers& buffers) const;
+
+  // The rules above for one window of valid, unit, gravity-aligned normals (any count).
+  PointClass ClassifyWindow(const Eigen::Vector3f* normals, int count, bool centre_valid) const;
+
+ private:
 
   PointClass Vote(const Eigen::Vector3f& n) const;
   // gather(Eigen::Vector3f out[9]) -> count writes the window's normals in row-major order.

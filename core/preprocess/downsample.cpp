@@ -35,10 +35,18 @@ ClassAwareDownsampler::ClassAwareDownsampler(const DownsampleConfig& config) : c
 
 std::vector<std::size_t> ClassAwareDownsampler::Select(const std::vector<Eigen::Vector3d>& points,
                                                        const std::vector<PointClass>& labels) {
-  if (labels.size() != points.size()) return {};
-  std::vector<std::size_t> kept = first_per_cell_.Select(points, labels, voxel_sizes_);
-  Adapt(kept.size());
+  std::vector<std::size_t> kept;
+  Select(points, labels, kept);
   return kept;
+}
+
+void ClassAwareDownsampler::Select(const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<PointClass>& labels,
+                                   std::vector<std::size_t>& kept) {
+  kept.clear();
+  if (labels.size() != points.size()) return;
+  first_per_cell_.Select(points, labels, voxel_sizes_, kept);
+  Adapt(kept.size());
 }
 
 void ClassAwareDownsampler::Adapt(std::size_t kept) {

@@ -27,6 +27,8 @@ class ClassAwareDownsampler {
 
   // Indices (ascending) of the kept points: one per voxel per class, the first in input order.
   // labels must have one entry per point (else nothing is kept). Updates the voxel sizes.
+  void Select(const std::vector<Eigen::Vector3d>& points, const std::vector<PointClass>& labels,
+              std::vector<std::size_t>& kept);  // the same into `kept`
   std::vector<std::size_t> Select(const std::vector<Eigen::Vector3d>& points,
                                   const std::vector<PointClass>& labels);
 

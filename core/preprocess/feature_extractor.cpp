@@ -92,6 +92,12 @@ std::vector<std::uint8_t> FeatureExtractor::KeptPoints(const Scan& scan) const {
 }
 
 ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor) const {
+  FeatureWorkspace workspace;
+  return Extract(std::move(scan), R_world_sensor, workspace);
+}
+
+ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_world_sensor,
+                                         FeatureWorkspace& workspace) const {
   ClassifiedScan out;
   out.dropped_invalid = RemoveInvalidPoints(scan, min_range_, max_range_);
   out.scan = std::move(scan);
@@ -99,16 +105,20 @@ ClassifiedScan FeatureExtractor::Extract(Scan scan, const Eigen::Matrix3d& R_wor
   const std::size_t n = points.size();
 
   auto start = std::chrono::steady_clock::now();
-  RangeImage image(config_.range_image, sensor_);
+  if (!workspace.image) workspace.image.emplace(config_.range_image, sensor_);
+  RangeImage& image = *workspace.image;
   image.Build(points, out.scan.rings);
   out.projection_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  const NormalMap normal_map(image, config_.normals);
+  if (!workspace.normal_map) workspace.normal_map.emplace(config_.normals);
+  NormalMap& normal_map = *workspace.normal_map;
+  normal_map.Build(image);
   out.normals_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  const std::vector<PointClass> pixel_labels = classifier_.Classify(normal_map, R_world_sensor);
+  classifier_.Classify(normal_map, R_world_sensor, workspace.classifier);
+  const std::vector<PointClass>& pixel_labels = workspace.classifier.labels;
   out.labels.resize(n);
   out.normals.resize(n);
   const double inherit2 =

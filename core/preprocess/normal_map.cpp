@@ -10,18 +10,25 @@
 namespace dammloam {
 
 NormalMap::NormalMap(const RangeImage& image, const NormalMapConfig& config)
-    : rows_(image.rows()),
-      cols_(image.cols()),
-      cot_min_incidence_(
+    : NormalMap(config) {
+  Build(image);
+}
+
+NormalMap::NormalMap(const NormalMapConfig& config)
+    : cot_min_incidence_(
           static_cast<float>(1.0 / std::tan(config.min_incidence_deg * std::numbers::pi / 180.0))),
       range_noise_(static_cast<float>(config.range_noise)),
       min_tangent_sine_(static_cast<float>(config.min_tangent_sine)),
       min_baseline_(static_cast<float>(config.min_baseline)),
-      max_stencil_(std::max(1, config.max_stencil)),
-      column_spacing_rad_(2.0f * std::numbers::pi_v<float> / static_cast<float>(std::max(1, cols_))),
-      row_spacing_rad_(static_cast<float>(image.row_spacing_rad())),
-      normals_(static_cast<std::size_t>(rows_) * cols_, Eigen::Vector3f::Zero()),
-      valid_(static_cast<std::size_t>(rows_) * cols_, 0) {
+      max_stencil_(std::max(1, config.max_stencil)) {}
+
+void NormalMap::Build(const RangeImage& image) {
+  rows_ = image.rows();
+  cols_ = image.cols();
+  column_spacing_rad_ = 2.0f * std::numbers::pi_v<float> / static_cast<float>(std::max(1, cols_));
+  row_spacing_rad_ = static_cast<float>(image.row_spacing_rad());
+  normals_.assign(static_cast<std::size_t>(rows_) * cols_, Eigen::Vector3f::Zero());
+  valid_.assign(static_cast<std::size_t>(rows_) * cols_, 0);
   // Rows are independent; grain of a few rows keeps the task overhead negligible.
   tbb::parallel_for(tbb::blocked_range<int>(0, rows_ < 2 ? 0 : rows_, 4),
                     [&](const tbb::blocked_range<int>& range) {

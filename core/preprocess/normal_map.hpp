@@ -20,6 +20,12 @@ namespace dammloam {
 class NormalMap {
  public:
   NormalMap(const RangeImage& image, const NormalMapConfig& config);
+  // Empty until Build: for a map kept between scans (FeatureWorkspace).
+  explicit NormalMap(const NormalMapConfig& config);
+
+  // The normals of `image`, replacing the last ones; no allocation once an image as large
+  // has been seen.
+  void Build(const RangeImage& image);
 
   int rows() const { return rows_; }
   int cols() const { return cols_; }
@@ -40,15 +46,15 @@ class NormalMap {
   int Stride(float range, float pixel_angle) const;
   bool Continuous(const Eigen::Vector3f& p, float rp, const Eigen::Vector3f& q, float rq) const;
 
-  int rows_;
-  int cols_;
+  int rows_ = 0;
+  int cols_ = 0;
   float cot_min_incidence_;
   float range_noise_;
   float min_tangent_sine_;
   float min_baseline_;
   int max_stencil_;
-  float column_spacing_rad_;
-  float row_spacing_rad_;  // 0 when the sensor's vertical angles are unknown: no strides
+  float column_spacing_rad_ = 0.0f;
+  float row_spacing_rad_ = 0.0f;  // 0 when the sensor's vertical angles are unknown: no strides
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> valid_;
 };

@@ -30,14 +30,15 @@ bool FollowsFiringOrder(const Scan& scan, float t_min, float t_max) {
     direction_sum[slice] += xy / r;
     ++count[slice];
   }
-  std::vector<double> concentration;
+  std::array<double, kSlices> concentration;
+  std::size_t judged = 0;
   for (int s = 0; s < kSlices; ++s) {
-    if (count[s] >= kMinPointsPerSlice) concentration.push_back(direction_sum[s].norm() / count[s]);
+    if (count[s] >= kMinPointsPerSlice) concentration[judged++] = direction_sum[s].norm() / count[s];
   }
   // Too few points to judge (a cropped or nearly empty scan): nothing says the times are wrong.
-  if (concentration.size() < 4) return true;
-  auto mid = concentration.begin() + concentration.size() / 2;
-  std::nth_element(concentration.begin(), mid, concentration.end());
+  if (judged < 4) return true;
+  auto mid = concentration.begin() + judged / 2;
+  std::nth_element(concentration.begin(), mid, concentration.begin() + judged);
   return *mid >= kMinConcentration;
 }
 

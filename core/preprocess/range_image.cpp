@@ -183,7 +183,8 @@ void RangeImage::Build(const std::vector<Eigen::Vector3d>& points,
   // Nearest wins, decided in parallel: a pixel keeps the minimum of (range, index) packed into
   // one word (a non-negative float's bits order like the float), so the winner does not depend
   // on which thread got there first, and equal ranges go to the lower index.
-  std::vector<std::uint64_t> owner(pixels, kNoOwner);
+  owner_.assign(pixels, kNoOwner);
+  std::uint64_t* const owner = owner_.data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       if (point_row_[i] < 0) continue;

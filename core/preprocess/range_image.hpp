@@ -26,7 +26,8 @@ class RangeImage {
   RangeImage(const RangeImageConfig& config, const SensorModel& sensor);
 
   // Projects the points (rings may be empty, else one per point). Points with a non-finite
-  // or zero range, or a ring outside [0, 1024), are not projected. O(N + pixels).
+  // or zero range, or a ring outside [0, 1024), are not projected. O(N + pixels). Called again,
+  // it reuses its buffers: no allocation once a scan as large has been projected.
   void Build(const std::vector<Eigen::Vector3d>& points, const std::vector<std::int16_t>& rings);
 
   int rows() const { return rows_; }
@@ -73,6 +74,7 @@ class RangeImage {
     float range = 0.0f;
   };
   std::vector<Pixel> pixels_;
+  std::vector<std::uint64_t> owner_;  // per pixel: (range bits, point index) of the nearest (scratch)
   std::vector<double> vertical_angles_rad_;
 };
 

@@ -32,21 +32,35 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
                                       RegistrationMode mode, bool unknown_defers_to_map,
                                       const std::vector<float>& times,
                                       const SourceSubset& subset, SearchMemory* memory) {
+  CorrespondenceBuffers buffers;
+  CorrespondenceSet out;
+  FindCorrespondences(source_world, labels, map, max_distance, mode, unknown_defers_to_map, times,
+                      subset, memory, buffers, out);
+  return out;
+}
+
+void FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
+                         const std::vector<PointClass>& labels, const VoxelHashMap& map,
+                         double max_distance, RegistrationMode mode, bool unknown_defers_to_map,
+                         const std::vector<float>& times, const SourceSubset& subset,
+                         SearchMemory* memory, CorrespondenceBuffers& buffers,
+                         CorrespondenceSet& out) {
   const std::size_t n = source_world.size();
   // Fixed blocks: each block counts its pairs while it searches, so that the pairs can then be
   // written in source order by all threads at once (a serial pass over the matches cost as
   // much as a tenth of the registration on two cores).
   constexpr std::size_t kBlock = 256;
+  constexpr std::size_t kPlanar = 0, kPoint = 1, kSearched = 2;  // a block's counts
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<const MapPoint*> match(n, nullptr);
-  std::vector<PairKind> kind(n, PairKind::kNone);
-  struct BlockCounts {
-    std::size_t planar = 0, point = 0, searched = 0;
-  };
-  std::vector<BlockCounts> counts(blocks);
+  buffers.match.assign(n, nullptr);
+  buffers.kind.assign(n, static_cast<std::uint8_t>(PairKind::kNone));
+  buffers.counts.assign(blocks, {0, 0, 0});
+  const MapPoint** const match = buffers.match.data();
+  PairKind* const kind = reinterpret_cast<PairKind*>(buffers.kind.data());
+  std::array<std::size_t, 3>* const counts = buffers.counts.data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const auto& range) {
     for (std::size_t block = range.begin(); block < range.end(); ++block) {
-      BlockCounts& count = counts[block];
+      std::array<std::size_t, 3>& count = counts[block];
       for (std::size_t i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) {
         if (!subset.Contains(i)) continue;
         const PointClass label = i < labels.size() ? labels[i] : PointClass::Unknown;
@@ -63,7 +77,7 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
           const VoxelHashMap::NearestPoint found =
               map.Nearest(source_world[i], wanted, max_distance);
           q = found.point;
-          ++count.searched;
+          ++count[kSearched];
           if (memory != nullptr) {
             memory->answer[i] = found;
             memory->searched_at[i] = source_world[i];
@@ -73,26 +87,24 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
         if (q == nullptr) continue;
         match[i] = q;
         kind[i] = Classify(mode, label, *q);
-        ++(kind[i] == PairKind::kPlanar ? count.planar : count.point);
+        ++count[kind[i] == PairKind::kPlanar ? kPlanar : kPoint];
       }
     }
   });
   // Where each block's pairs start in the output.
-  std::vector<BlockCounts> starts(blocks);
-  CorrespondenceSet out;
-  BlockCounts total;
+  buffers.starts.resize(blocks);
+  std::array<std::size_t, 3>* const starts = buffers.starts.data();
+  std::array<std::size_t, 3> total{0, 0, 0};
   for (std::size_t block = 0; block < blocks; ++block) {
     starts[block] = total;
-    total.planar += counts[block].planar;
-    total.point += counts[block].point;
-    total.searched += counts[block].searched;
+    for (std::size_t k = 0; k < 3; ++k) total[k] += counts[block][k];
   }
-  out.searched_points = total.searched;
-  out.planar.resize(total.planar);
-  out.point.resize(total.point);
+  out.searched_points = total[kSearched];
+  out.planar.resize(total[kPlanar]);
+  out.point.resize(total[kPoint]);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const auto& range) {
     for (std::size_t block = range.begin(); block < range.end(); ++block) {
-      std::size_t next_planar = starts[block].planar, next_point = starts[block].point;
+      std::size_t next_planar = starts[block][kPlanar], next_point = starts[block][kPoint];
       for (std::size_t i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) {
         if (kind[i] == PairKind::kNone) continue;
         const bool planar = kind[i] == PairKind::kPlanar;
@@ -103,7 +115,6 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
       }
     }
   });
-  return out;
 }
 
 }  // namespace dammloam

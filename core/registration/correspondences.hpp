@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -38,7 +39,14 @@ struct CorrespondenceSet {
 // pairs are exactly those of a fresh search. Valid for one map and one max_distance, i.e.
 // within one registration.
 struct SearchMemory {
-  explicit SearchMemory(std::size_t n) : answer(n), searched_at(n), searched(n, 0) {}
+  SearchMemory() = default;
+  explicit SearchMemory(std::size_t n) { Reset(n); }
+  // Nothing remembered, for a source of n points (the buffers stay).
+  void Reset(std::size_t n) {
+    answer.resize(n);
+    searched_at.resize(n);
+    searched.assign(n, 0);
+  }
   std::vector<VoxelHashMap::NearestPoint> answer;
   std::vector<Eigen::Vector3d> searched_at;
   std::vector<std::uint8_t> searched;  // 0: never
@@ -51,6 +59,13 @@ struct SearchMemory {
 // RegistrationConfig). kPointToPoint ignores classes and normals; kPlaneOnly ignores classes
 // and makes every pair with a map normal planar. `subset` says which source points are paired.
 // With `memory` (sized to the source), answers still valid are reused and the others stored.
+// FindCorrespondences' per-search buffers, kept by a caller that searches again and again.
+struct CorrespondenceBuffers {
+  std::vector<const MapPoint*> match;
+  std::vector<std::uint8_t> kind;
+  std::vector<std::array<std::size_t, 3>> counts, starts;  // per block: planar, point, searched
+};
+
 CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
                                       const std::vector<PointClass>& labels,
                                       const VoxelHashMap& map, double max_distance,
@@ -58,5 +73,12 @@ CorrespondenceSet FindCorrespondences(const std::vector<Eigen::Vector3d>& source
                                       const std::vector<float>& times = {},
                                       const SourceSubset& subset = SourceSubset{},
                                       SearchMemory* memory = nullptr);
+// The same into `out`, reusing its capacity and `buffers`.
+void FindCorrespondences(const std::vector<Eigen::Vector3d>& source_world,
+                         const std::vector<PointClass>& labels, const VoxelHashMap& map,
+                         double max_distance, RegistrationMode mode, bool unknown_defers_to_map,
+                         const std::vector<float>& times, const SourceSubset& subset,
+                         SearchMemory* memory, CorrespondenceBuffers& buffers,
+                         CorrespondenceSet& out);
 
 }  // namespace dammloam

@@ -90,6 +90,8 @@ InScanBasis InScanBasisFor(const Eigen::Vector3d& centre, double mean_time_sq,
   return basis;
 }
 
+const std::vector<float> kNoTimes;  // rigid registration: no firing times
+
 // Geman-McClure IRLS weight, KISS-ICP's form.
 double RobustWeight(double residual_sq, double kernel_scale) {
   const double d = kernel_scale + residual_sq;
@@ -211,12 +213,13 @@ Eigen::Matrix3d PointResidualMetric(const DegeneracyReport& report) {
 // The planar pairs are the searched ones with their normals copied (and the weak components
 // taken out), then the point pairs a shape made planar: copying only the normals keeps the
 // searched pairs, 80 bytes each, out of a serial copy every iteration.
+// (The vectors are the workspace's, refilled every iteration.)
 struct WeakAwarePairs {
   const std::vector<Correspondence>& searched_planar;
-  std::vector<Eigen::Vector3d> searched_normals;
-  std::vector<Correspondence> shaped;  // point pairs turned planar by their map neighbourhood
-  std::vector<Correspondence> point;
-  std::vector<Correspondence> unjudged;  // point pairs whose map neighbourhood is too sparse
+  std::vector<Eigen::Vector3d>& searched_normals;
+  std::vector<Correspondence>& shaped;  // point pairs turned planar by their map neighbourhood
+  std::vector<Correspondence>& point;
+  std::vector<Correspondence>& unjudged;  // point pairs whose map neighbourhood is too sparse
 
   std::size_t NumPlanar() const { return searched_normals.size() + shaped.size(); }
   Eigen::Vector3d& Normal(std::size_t j) {
@@ -239,10 +242,12 @@ struct WeakAwarePairs {
 // (structures, or planes facing v) and sparse neighbourhoods keep it.
 void StripFacingNormalsOnOtherPlanes(const Eigen::Vector3d& v, double strong_cosine,
                                      const std::vector<std::size_t>& facing,
-                                     ShapeCache& shapes_around, WeakAwarePairs& pairs) {
+                                     RegistrationWorkspace& workspace, WeakAwarePairs& pairs) {
   if (facing.empty()) return;
-  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(
-      facing.size(), [&](std::size_t k) { return pairs.searched_planar[facing[k]].target; });
+  std::vector<const LocalShape*>& shapes = workspace.shapes_of_pairs;
+  workspace.shapes.Lookup(
+      facing.size(), [&](std::size_t k) { return pairs.searched_planar[facing[k]].target; },
+      shapes);
   for (std::size_t k = 0; k < facing.size(); ++k) {
     const LocalShape& shape = *shapes[k];
     if (!shape.judged || shape.planes != 1 || std::abs(shape.n[0].dot(v)) >= strong_cosine) {
@@ -254,16 +259,22 @@ void StripFacingNormalsOnOtherPlanes(const Eigen::Vector3d& v, double strong_cos
 }
 
 WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport& report,
-                         const RegistrationConfig& config, ShapeCache& shapes_around) {
-  WeakAwarePairs out{pairs.planar, std::vector<Eigen::Vector3d>(pairs.planar.size()), {}, {}, {}};
+                         const RegistrationConfig& config, RegistrationWorkspace& workspace) {
+  WeakAwarePairs out{pairs.planar, workspace.searched_normals, workspace.shaped, workspace.point,
+                     workspace.unjudged};
+  out.searched_normals.resize(pairs.planar.size());
+  out.shaped.clear();
+  out.point.clear();
+  out.unjudged.clear();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.planar.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t j = range.begin(); j < range.end(); ++j) {
                         out.searched_normals[j] = pairs.planar[j].normal;
                       }
                     });
-  const std::vector<const LocalShape*> shapes = shapes_around.Lookup(
-      pairs.point.size(), [&](std::size_t i) { return pairs.point[i].target; });
+  std::vector<const LocalShape*>& shapes = workspace.shapes_of_pairs;
+  workspace.shapes.Lookup(
+      pairs.point.size(), [&](std::size_t i) { return pairs.point[i].target; }, shapes);
   for (std::size_t i = 0; i < pairs.point.size(); ++i) {
     if (!shapes[i]->judged) {
       out.unjudged.push_back(pairs.point[i]);
@@ -282,7 +293,8 @@ WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport&
   for (int i = 0; i < 3; ++i) {
     if (!report.degenerate[i]) continue;
     const Eigen::Vector3d v = report.eigenvectors.col(i);
-    std::vector<std::uint8_t> faces(out.NumPlanar(), 0);
+    std::vector<std::uint8_t>& faces = workspace.faces;
+    faces.assign(out.NumPlanar(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.NumPlanar(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t j = range.begin(); j < range.end(); ++j) {
@@ -296,11 +308,12 @@ WeakAwarePairs WeakAware(const CorrespondenceSet& pairs, const DegeneracyReport&
                         }
                       });
     // Searched pairs whose stored normal faces v (a shape's pairs already carry its normal).
-    std::vector<std::size_t> facing;
+    std::vector<std::size_t>& facing = workspace.facing;
+    facing.clear();
     for (std::size_t j = 0; j < pairs.planar.size(); ++j) {
       if (faces[j]) facing.push_back(j);
     }
-    StripFacingNormalsOnOtherPlanes(v, config.strong_normal_cosine, facing, shapes_around, out);
+    StripFacingNormalsOnOtherPlanes(v, config.strong_normal_cosine, facing, workspace, out);
   }
   return out;
 }
@@ -406,8 +419,8 @@ template <int N>
 NormalEquations<N> WeakAwareSystem(const CorrespondenceSet& pairs,
                                    const DegeneracyReport& planar_report, double alpha,
                                    double kernel_scale, const RegistrationConfig& config,
-                                   ShapeCache& shapes_around, const InScanBasis& basis) {
-  const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, shapes_around);
+                                   RegistrationWorkspace& workspace, const InScanBasis& basis) {
+  const WeakAwarePairs sorted = WeakAware(pairs, planar_report, config, workspace);
   NormalEquations<N> system, point_system, unjudged_system;
   // Together, so that the point pairs' few blocks fill the threads the planar sum leaves idle.
   tbb::parallel_invoke(
@@ -464,11 +477,11 @@ NormalEquations<N> WeightedSystem(const CorrespondenceSet& pairs,
 template <int N>
 NormalEquations<N> DataSystem(const CorrespondenceSet& pairs, const DegeneracyReport& planar_report,
                               bool weak_aware, bool weighted, double alpha, double kernel_scale,
-                              const RegistrationConfig& config, ShapeCache& shapes_around,
+                              const RegistrationConfig& config, RegistrationWorkspace& workspace,
                               const InScanBasis& basis) {
   NormalEquations<N> system =
       weak_aware ? WeakAwareSystem<N>(pairs, planar_report, alpha, kernel_scale, config,
-                                      shapes_around, basis)
+                                      workspace, basis)
                  : WeightedSystem<N>(pairs, planar_report, weighted, alpha, kernel_scale, config,
                                      basis);
   system.MirrorLowerTriangle();
@@ -577,10 +590,12 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
                             const Eigen::Isometry3d& initial_guess,
                             double max_correspondence_distance, double kernel_scale,
                             const RegistrationConfig& config, const MotionPrior& prior,
-                            const std::vector<float>& source_times, ShapeCache* shape_cache) {
+                            const std::vector<float>& source_times,
+                            RegistrationWorkspace& workspace) {
   RegistrationResult result;
   result.T_world_sensor = initial_guess;
-  std::vector<Eigen::Vector3d> source_world = source;
+  std::vector<Eigen::Vector3d>& source_world = workspace.source_world;
+  source_world.assign(source.begin(), source.end());
   Transform<0>(initial_guess, {}, {}, {}, source_world);
   // full_remap: the weights go with the remapping: they take the weak directions away from the
   // data, which only the held prediction can then fill. Without a trusted prediction (a start,
@@ -590,12 +605,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   const bool remap = weighted && config.remap_degenerate_directions;
   const bool fused = UsesMotionPrior(config.mode) && prior.rotation_sigma > 0.0;
   const double information_scale = 1.0 / (config.residual_sigma * config.residual_sigma);
-  // Odometry passes the cache it keeps across scans; a caller without one gets a cache for this
-  // scan only, built only then (an empty deque still allocates).
-  std::optional<ShapeCache> this_scan_only;
-  if (shape_cache == nullptr) this_scan_only.emplace();
-  ShapeCache& shapes_around = shape_cache ? *shape_cache : *this_scan_only;
-  shapes_around.Bind(map, config);
+  workspace.shapes.Bind(map, config);
   double max_time = 0.0;  // how far a point's time lies from the registered frame's
   double mean_time_sq = 0.0;
   if constexpr (K > 0) {
@@ -607,8 +617,9 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   }
   InScanVector<K> motion = InScanVector<K>::Zero();  // departure from the deskew velocity
 
-  CorrespondenceSet pairs;
-  SearchMemory search_memory(source_world.size());
+  CorrespondenceSet& pairs = workspace.pairs;
+  SearchMemory& search_memory = workspace.search_memory;
+  search_memory.Reset(source_world.size());
   double moved_since_search = std::numeric_limits<double>::infinity();
   Vector6d previous_dx = Vector6d::Zero();
   // Coarse to fine: the first searches pair every coarse_stride-th source point only. The
@@ -618,13 +629,13 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
   // looks up only the other points.
   const std::size_t coarse_stride = static_cast<std::size_t>(std::max(1, config.coarse_stride));
   bool coarse = coarse_stride > 1;
-  CorrespondenceSet settled_coarse_pairs;
+  CorrespondenceSet& settled_coarse_pairs = workspace.settled_coarse_pairs;
   // How far the settled pairs' sources moved since they were found; infinite: none settled.
   double settled_moved = std::numeric_limits<double>::infinity();
   const auto end_coarse_phase = [&](bool settled) {
     coarse = false;
     if (settled) {
-      settled_coarse_pairs = std::move(pairs);
+      std::swap(settled_coarse_pairs, pairs);  // pairs is searched again before any use
       settled_moved = moved_since_search;
     }
     moved_since_search = std::numeric_limits<double>::infinity();  // search every point next
@@ -635,10 +646,9 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
     if (!reuse_pairs) {
       const bool add_settled = !coarse && std::isfinite(settled_moved);
       const SourceSubset subset{coarse || add_settled ? coarse_stride : 1, add_settled};
-      pairs = FindCorrespondences(source_world, labels, map, max_correspondence_distance,
-                                  config.mode, config.unknown_defers_to_map,
-                                  K > 0 ? source_times : std::vector<float>{}, subset,
-                                  &search_memory);
+      FindCorrespondences(source_world, labels, map, max_correspondence_distance, config.mode,
+                          config.unknown_defers_to_map, K > 0 ? source_times : kNoTimes, subset,
+                          &search_memory, workspace.search_buffers, pairs);
       moved_since_search = 0.0;
       ++result.searches;
       result.searched_points += pairs.searched_points;
@@ -684,7 +694,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
     std::optional<InScanElimination<K>> in_scan;
     if constexpr (K > 0) {
       const NormalEquations<6 + K> full = DataSystem<6 + K>(
-          pairs, planar_report, weak_aware, weighted, alpha, kernel_scale, config, shapes_around,
+          pairs, planar_report, weak_aware, weighted, alpha, kernel_scale, config, workspace,
           basis);
       system.H = full.H.template topLeftCorner<6, 6>();
       system.b = full.b.template head<6>();
@@ -694,7 +704,7 @@ RegistrationResult Register(const std::vector<Eigen::Vector3d>& source,
                                            result.T_world_sensor.linear().col(2)));
     } else {
       system = DataSystem<6>(pairs, planar_report, weak_aware, weighted, alpha, kernel_scale,
-                             config, shapes_around, basis);
+                             config, workspace, basis);
     }
 
     const DegeneracyReport report =
@@ -786,17 +796,21 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const RegistrationConfig& config,
                                 const MotionPrior& prior,
                                 const std::vector<float>& source_times,
-                                ShapeCache* shape_cache) {
+                                RegistrationWorkspace* workspace) {
+  // Odometry passes the workspace it keeps across scans; a caller without one gets one for this
+  // scan only.
+  std::optional<RegistrationWorkspace> this_scan_only;
+  if (workspace == nullptr) workspace = &this_scan_only.emplace();
   switch (InScanUnknowns(config, prior, source_times, source.size())) {
     case 9:
       return Register<9>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times, shape_cache);
+                         kernel_scale, config, prior, source_times, *workspace);
     case 6:
       return Register<6>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times, shape_cache);
+                         kernel_scale, config, prior, source_times, *workspace);
     default:
       return Register<0>(source, labels, map, initial_guess, max_correspondence_distance,
-                         kernel_scale, config, prior, source_times, shape_cache);
+                         kernel_scale, config, prior, source_times, *workspace);
   }
 }
 

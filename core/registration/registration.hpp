@@ -9,7 +9,7 @@
 #include "core/map/voxel_hash_map.hpp"
 #include "core/odometry/odometry_result.hpp"
 #include "core/registration/registration_config.hpp"
-#include "core/registration/shape_cache.hpp"
+#include "core/registration/registration_workspace.hpp"
 
 namespace dammloam {
 
@@ -80,9 +80,10 @@ struct MotionPrior {
 // directions once prior.holds, and leaves every direction to the data otherwise.
 // `source_times` (optional, one per source point): firing times relative to the frame the
 // source is expressed in, seconds; with them and the prior's in-scan sigmas, full mode also
-// estimates RegistrationResult::scan_twist. `shape_cache` (optional): the map's shapes kept
-// from earlier scans, its owner having made it Forget the map's changes since (see ShapeCache);
-// without one, shapes are computed afresh.
+// estimates RegistrationResult::scan_twist. `workspace` (optional): the map's shapes kept
+// from earlier scans, its owner having made workspace->shapes Forget the map's changes since
+// (see ShapeCache), and buffers reused from scan to scan; without one, shapes are computed
+// afresh and the buffers allocated for this scan.
 RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const std::vector<PointClass>& labels, const VoxelHashMap& map,
                                 const Eigen::Isometry3d& initial_guess,
@@ -90,6 +91,6 @@ RegistrationResult RegisterScan(const std::vector<Eigen::Vector3d>& source,
                                 const RegistrationConfig& config,
                                 const MotionPrior& prior = {},
                                 const std::vector<float>& source_times = {},
-                                ShapeCache* shape_cache = nullptr);
+                                RegistrationWorkspace* workspace = nullptr);
 
 }  // namespace dammloam

@@ -36,12 +36,14 @@ class ShapeCache {
   // drops everything.
   void Bind(const VoxelHashMap& map, const RegistrationConfig& config);
 
-  // The shapes around target_of(0), ..., target_of(n - 1), in this order. The pointers stay
-  // valid until the next Forget or Bind.
+  // The shapes around target_of(0), ..., target_of(n - 1), in this order, into `out`. The
+  // pointers stay valid until the next Forget or Bind.
   template <typename TargetOf>
-  std::vector<const LocalShape*> Lookup(std::size_t n, TargetOf target_of) {
-    std::vector<std::uint32_t> slot_of(n);
-    std::vector<std::pair<Voxel, std::uint32_t>> missing;
+  void Lookup(std::size_t n, TargetOf target_of, std::vector<const LocalShape*>& out) {
+    std::vector<std::uint32_t>& slot_of = slot_of_;
+    std::vector<std::pair<Voxel, std::uint32_t>>& missing = missing_;
+    slot_of.resize(n);
+    missing.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const Voxel voxel = PointToVoxel(target_of(i), map_->voxel_size());
       const auto it = index_.find(voxel);
@@ -55,8 +57,14 @@ class ShapeCache {
       slot_of[i] = slot;
     }
     Compute(missing);
-    std::vector<const LocalShape*> out(n);
+    out.resize(n);
     for (std::size_t i = 0; i < n; ++i) out[i] = &shapes_[slot_of[i]];
+  }
+
+  template <typename TargetOf>
+  std::vector<const LocalShape*> Lookup(std::size_t n, TargetOf target_of) {
+    std::vector<const LocalShape*> out;
+    Lookup(n, target_of, out);
     return out;
   }
 
@@ -75,6 +83,9 @@ class ShapeCache {
   // shapes are reused, only after a Forget.
   std::deque<LocalShape> shapes_;
   std::vector<std::uint32_t> free_slots_;
+  // Lookup's buffers, kept between calls.
+  std::vector<std::uint32_t> slot_of_;
+  std::vector<std::pair<Voxel, std::uint32_t>> missing_;
 };
 
 }  // namespace dammloam

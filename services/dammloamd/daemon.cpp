@@ -322,7 +322,7 @@ void Daemon::FeatureLoop() {
           odometry_config_.registration.mode == RegistrationMode::kPointToPoint
               ? UnclassifiedScan(std::move(item->scan), odometry_config_.preprocess,
                                  config_.sensor)
-              : extractor_.Extract(std::move(item->scan), R_world_sensor);
+              : extractor_.Extract(std::move(item->scan), R_world_sensor, features_);
       const ScanMeta meta = item->meta;
       if (!featured_.TryPush({item->meta, std::move(classified)})) {
         Drop(meta, "feature_queue_full");

@@ -133,6 +133,7 @@ class Daemon {
   DaemonConfig config_;
   OdometryConfig odometry_config_;
   FeatureExtractor extractor_;
+  FeatureWorkspace features_;  // the feature thread's
   Odometry odometry_;
   DaemonStats stats_;
   FaultInjector fault_;

@@ -387,13 +387,13 @@ TEST(Registration, PointPairsOnAPlaneAreJudgedOnEveryScan) {
   // Shapes kept from an earlier registration on the same map give the same pose, bit for bit.
   const RegistrationResult fresh =
       RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3, config, TwoCentimetrePrior());
-  ShapeCache kept;
+  RegistrationWorkspace kept;
   for (int scan = 0; scan < 2; ++scan) {
     const RegistrationResult r = RegisterScan(source.points, source.labels, map, guess, 1.0, 0.3,
                                               config, TwoCentimetrePrior(), {}, &kept);
     EXPECT_EQ(r.T_world_sensor.matrix(), fresh.T_world_sensor.matrix());
   }
-  EXPECT_GT(kept.size(), 0u);
+  EXPECT_GT(kept.shapes.size(), 0u);
   config.judge_point_pairs_always = false;
   const double as_points = error_of(config);
   // Measured: 13.7 mm as points, 2.1 mm judged (what is left: the pairs by the room's corners,
