@@ -64,6 +64,7 @@ void ReadVerifier(Section s, LoopVerifierConfig& c) {
   s.Get("normal_neighbours", c.normal_neighbours);
   s.Get("rotation_drift_per_metre", c.rotation_drift_per_metre);
   s.Get("rotation_drift_offset", c.rotation_drift_offset);
+  s.Get("max_level_difference", c.max_level_difference);
   s.Get("min_direction_support", c.min_direction_support);
   s.Get("min_observed_directions", c.min_observed_directions);
   s.Get("min_noise_sigma", c.min_noise_sigma);
@@ -215,6 +216,7 @@ void ValidateBackendConfig(const backend::BackendParameters& config, const std::
   check.AtLeast(v.normal_neighbours, 3, lc + "verifier.normal_neighbours");
   check.NonNegative(v.rotation_drift_per_metre, lc + "verifier.rotation_drift_per_metre");
   check.NonNegative(v.rotation_drift_offset, lc + "verifier.rotation_drift_offset");
+  check.NonNegative(v.max_level_difference, lc + "verifier.max_level_difference");
   check.NonNegative(v.min_direction_support, lc + "verifier.min_direction_support");
   check.Require(v.min_observed_directions >= 0 && v.min_observed_directions <= 3,
                 lc + "verifier.min_observed_directions", "must be in [0, 3]");

@@ -1,6 +1,7 @@
 #include "core/backend/loop_verifier.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/backend/reason_text.hpp"
 
@@ -67,7 +68,7 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
     icp.T_target_source.translation() -= (Eigen::Matrix3d::Identity() - observed) *
                                          (icp.T_target_source.translation() - guess.translation());
     LoopEvent judged = event;
-    Judge(icp, observed, T_odom, path_length,
+    Judge(icp, observed, T_odom, candidate.T_world_sensor.linear(), path_length,
           first ? config_.min_inlier_ratio_from_odometry : config_.min_inlier_ratio, judged);
     // Report the first acceptable hypothesis, else the one that fits best.
     if (judged.accepted || first || judged.inlier_ratio > event.inlier_ratio) event = judged;
@@ -78,8 +79,8 @@ LoopEvent LoopVerifier::Verify(const Keyframe& query, const Keyframe& candidate,
 }
 
 void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
-                         const Eigen::Isometry3d& T_odom, double path_length,
-                         double min_inlier_ratio, LoopEvent& event) const {
+                         const Eigen::Isometry3d& T_odom, const Eigen::Matrix3d& R_map_candidate,
+                         double path_length, double min_inlier_ratio, LoopEvent& event) const {
   event.T_candidate_query = icp.T_target_source;
   event.inlier_ratio = icp.inlier_ratio;
   event.rmse = icp.rmse;
@@ -95,6 +96,12 @@ void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
   const double drift_budget = config_.drift_offset + config_.drift_per_metre * path_length;
   const double rotation_budget =
       config_.rotation_drift_offset + config_.rotation_drift_per_metre * path_length;
+  // How far up the query is: the registration's word along what it observes, odometry's along
+  // the rest (a guess at zero offset is no evidence of being on the same floor).
+  const Eigen::Vector3d t_registered = icp.T_target_source.translation();
+  const Eigen::Vector3d t_evidence =
+      t_registered + (Eigen::Matrix3d::Identity() - observed) * (T_odom.translation() - t_registered);
+  const double rise = (R_map_candidate * t_evidence).z();
 
   event.accepted = false;
   if (icp.inlier_ratio < min_inlier_ratio) {
@@ -112,6 +119,10 @@ void LoopVerifier::Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
   } else if (rotation_disagreement > rotation_budget) {
     event.reason = ReasonText("disagrees with odometry by %.2f rad (drift budget %.2f rad)",
                           rotation_disagreement, rotation_budget);
+  } else if (config_.max_level_difference > 0.0 && std::abs(rise) > config_.max_level_difference) {
+    event.reason = ReasonText("another level: %+.2f m vertically from the candidate (more than "
+                              "%.2f m either way)",
+                              rise, config_.max_level_difference);
   } else {
     event.accepted = true;
     event.reason = event.observed_translation_directions == 3

@@ -33,6 +33,12 @@ struct LoopVerifierConfig {
   // Weak priors that keep the loop's information invertible along free directions.
   double free_translation_sigma = 100.0; // metres
   double free_rotation_sigma = 1.0;      // radians
+  // A loop that puts the query more than this far above or below the candidate (vertically in
+  // the map's frame; along directions the registration does not observe, as odometry puts it)
+  // joins two levels of a building: a storey up, the walls of a floor plan repeated on every
+  // floor fit as well as the same floor's would, and a ground robot or a walker never revisits
+  // a place at another height. 0: not checked.
+  double max_level_difference = 1.5;     // metres
 
   bool operator==(const LoopVerifierConfig&) const = default;
 };
@@ -52,9 +58,10 @@ class LoopVerifier {
  private:
   // Fills `event` from one registration (`observed`: projector onto the translation
   // directions it fixes) and decides on it.
+  // R_map_candidate: the candidate's orientation in the map (which way is up).
   void Judge(const IcpResult& icp, const Eigen::Matrix3d& observed,
-             const Eigen::Isometry3d& T_odom, double path_length, double min_inlier_ratio,
-             LoopEvent& event) const;
+             const Eigen::Isometry3d& T_odom, const Eigen::Matrix3d& R_map_candidate,
+             double path_length, double min_inlier_ratio, LoopEvent& event) const;
 
   LoopVerifierConfig config_;
 };

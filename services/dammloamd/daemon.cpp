@@ -474,9 +474,10 @@ void Daemon::LabelledLoop() {
 
 void Daemon::PublishLabelled(LabelledJob& job) {
   dds::LabelledPoints& points = job.points;
-  points.points_map.reserve(points.points_sensor.size());
-  for (const auto& p : points.points_sensor) points.points_map.push_back(job.T_map_sensor * p);
   if (job.native) {
+    // Only the native cloud carries the map-frame copy (the ROS 2 cloud is in the sensor frame).
+    points.points_map.reserve(points.points_sensor.size());
+    for (const auto& p : points.points_sensor) points.points_map.push_back(job.T_map_sensor * p);
     dds::CloudMessage cloud = dds::LabelledToCloud(points, job.meta.frame_id, job.meta.seq);
     cloud.stamp = job.meta.stamp;
     const dds::CloudView view(cloud);

@@ -86,5 +86,48 @@ TEST(LoopVerifier, LoopSeeingTheEndWallConstrainsAllDirections) {
   EXPECT_LT(AngleBetween(v.event.T_candidate_query, v.T_true), 0.005);
 }
 
+// A stairwell's walls run through both floors, and a floor plan repeated on the next floor
+// fits as well as the same floor's: nothing in such a pair tells the heights apart, and
+// odometry, having climbed the stairs, agrees with the registration. A revisit on another
+// floor must not be accepted; the same pair on one floor is.
+Keyframe WallsKeyframe(std::uint32_t id, double sensor_height) {
+  Keyframe kf;
+  kf.id = id;
+  kf.T_world_sensor_odom.translation() = Eigen::Vector3d(0.0, 0.0, sensor_height);
+  kf.T_world_sensor = kf.T_world_sensor_odom;
+  // Two side walls 3 m apart and an end wall 8 m ahead, from 2 m below the ground floor to
+  // 2 m above the first floor (world z -2..5); what this keyframe sees of them, its frame.
+  for (double z = -2.0; z <= 5.0; z += 0.1) {
+    for (double x = -8.0; x <= 8.0; x += 0.1) {
+      for (const double y : {-1.5, 1.5}) kf.points.emplace_back(x, y, z - sensor_height);
+    }
+    for (double y = -1.5; y <= 1.5; y += 0.1) kf.points.emplace_back(8.0, y, z - sensor_height);
+  }
+  kf.descriptor = MakeScanContext(kf.points, ScanContextConfig{20, 60, 30.0, 1.2});
+  return kf;
+}
+
+TEST(LoopVerifier, AFloorPlanOneStoreyUpIsNotALoop) {
+  const Keyframe candidate = WallsKeyframe(0, 1.0);
+  const Keyframe same_floor = WallsKeyframe(1, 1.0);
+  const Keyframe upstairs = WallsKeyframe(1, 4.0);
+  const LoopVerifier verifier;
+  const auto verify = [&](const LoopVerifier& v, const Keyframe& query) {
+    return v.Verify(query, candidate, CompareScanContexts(query.descriptor, candidate.descriptor),
+                    60.0);
+  };
+  const LoopEvent same = verify(verifier, same_floor);
+  ASSERT_TRUE(same.accepted) << same.reason;
+  EXPECT_EQ(same.observed_translation_directions, 2);  // the height is free: walls only
+  const LoopEvent up = verify(verifier, upstairs);
+  EXPECT_FALSE(up.accepted);
+  EXPECT_NE(up.reason.find("another level: +3.00 m"), std::string::npos) << up.reason;
+
+  LoopVerifierConfig unchecked;
+  unchecked.max_level_difference = 0.0;
+  const LoopEvent without_check = verify(LoopVerifier(unchecked), upstairs);
+  EXPECT_TRUE(without_check.accepted) << without_check.reason;  // what the check is for
+}
+
 }  // namespace
 }  // namespace dammloam::backend
