@@ -83,22 +83,21 @@ void LabelMoving(const std::vector<std::uint8_t>& moving, std::vector<PointClass
   }
 }
 
+// values[indices] into `out` (its capacity reused); empty values give an empty out.
 template <typename T>
-std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
-  std::vector<T> out;
+const std::vector<T>& GatherInto(const std::vector<T>& values,
+                                 const std::vector<std::size_t>& indices, std::vector<T>& out) {
+  out.clear();
   if (values.empty()) return out;
   out.reserve(indices.size());
   for (std::size_t i : indices) out.push_back(values[i]);
   return out;
 }
 
-// The same into `out` (its capacity reused).
 template <typename T>
-const std::vector<T>& GatherInto(const std::vector<T>& values,
-                                 const std::vector<std::size_t>& indices, std::vector<T>& out) {
-  out.clear();
-  if (values.empty()) return out;
-  for (std::size_t i : indices) out.push_back(values[i]);
+std::vector<T> Gather(const std::vector<T>& values, const std::vector<std::size_t>& indices) {
+  std::vector<T> out;
+  GatherInto(values, indices, out);
   return out;
 }
 
